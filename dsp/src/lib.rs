@@ -1,0 +1,24 @@
+//! Fixed-point radar signal processing for the Metamoran edge module.
+//!
+//! `#![no_std]`, no allocation, deterministic: the same bits on x86 and on the Cortex-M7.
+//! The modules follow the pipeline:
+//!
+//! * [`capture`]: DCA1000 sample layouts → complex Q15 samples;
+//! * [`range`]: windowed range FFT per (chirp, RX), streaming as chirps arrive;
+//! * [`array`]: the TDM-MIMO virtual array;
+//! * [`clutter`]: static clutter removal;
+//! * [`doppler`]: Doppler FFT and the range–Doppler map;
+//! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;
+//! * [`detect`]: CA/OS-CFAR and peak interpolation;
+//!
+//! on top of [`fixed`] (Q15/Q31 and complex values), [`fft`], [`window`], [`trig`] and the
+//! radar geometry in [`config`] and [`units`].
+#![no_std]
+#![deny(missing_docs)]
+
+#[cfg(test)]
+extern crate std;
+
+pub mod fft;
+pub mod fixed;
+pub mod trig;
