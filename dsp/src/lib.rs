@@ -19,6 +19,16 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod array;
+pub mod azimuth;
+pub mod capture;
+pub mod clutter;
+pub mod config;
+pub mod detect;
+pub mod doppler;
 pub mod fft;
 pub mod fixed;
+pub mod range;
 pub mod trig;
+pub mod units;
+pub mod window;

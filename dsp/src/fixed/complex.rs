@@ -91,8 +91,8 @@ mod tests {
     fn add_sub_saturate_per_part() {
         let a = Complex::<Q15>::from_raw(32000, -32000);
         let b = Complex::<Q15>::from_raw(1000, 1000);
-        assert_eq!(a + b, Complex::from_raw(32767, -31000));
-        assert_eq!(a - b, Complex::from_raw(31000, -32768));
+        assert_eq!(a + b, Complex::<Q15>::from_raw(32767, -31000));
+        assert_eq!(a - b, Complex::<Q15>::from_raw(31000, -32768));
         assert_eq!(Complex::<Q15>::from_raw(-32768, -32768).norm_sqr_raw(), 1 << 31);
     }
 }

@@ -1,0 +1,8 @@
+//! Doppler: FFT over the loops of each (channel, range bin), after optional static clutter
+//! removal, and the non-coherent range–Doppler map.
+
+mod column;
+mod map;
+
+pub use column::{DopplerError, DopplerOptions, doppler_column};
+pub use map::{magnitude, range_doppler_map};
