@@ -1,1 +1,149 @@
-fn main(){}
+//! `metamoran`: the command-line front of the host tools.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use dsp::capture::IqOrder;
+use host_tools::bundle::{Bundle, OpenOptions, RadarFile};
+use host_tools::capture::{open_bare, parse_radar_config};
+use host_tools::summary::summarize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// Metamoran: mmWave radar + camera depth imaging.
+#[derive(Parser)]
+#[command(version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum IqArg {
+    /// I[2k], I[2k+1], Q[2k], Q[2k+1] (the bundle format's order)
+    Iiqq,
+    /// Q[2k], Q[2k+1], I[2k], I[2k+1] (devices with adcbufCfg sample swap)
+    Qqii,
+}
+
+impl From<IqArg> for IqOrder {
+    fn from(a: IqArg) -> Self {
+        match a {
+            IqArg::Iiqq => IqOrder::Iiqq,
+            IqArg::Qqii => IqOrder::Qqii,
+        }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Summarize a scene bundle or a bare DCA1000 capture: range-profile peaks and moving targets.
+    ///
+    /// Example: metamoran summarize capture.bin --config radar.toml
+    #[command(after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json")]
+    Summarize {
+        /// A bundle folder (with scene.toml) or a DCA1000 .bin file.
+        path: PathBuf,
+        /// Radar config TOML (a `[radar]` table as in scene.toml) for a bare .bin.
+        #[arg(long)]
+        config: Option<PathBuf>,
+        /// I/Q order of the samples.
+        #[arg(long, value_enum, default_value = "iiqq")]
+        iq_order: IqArg,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run the main job on built-in data (for now: summarize a real TI capture from shared/).
+    #[command(after_help = "Example:\n  metamoran demo")]
+    Demo {
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Benchmarks, reported as ratios against baselines measured in the same run.
+    Bench {
+        #[command(subcommand)]
+        what: BenchCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// FFT speed on this host and SQNR at -12/-40 dBFS: ours (Q15, Q31) vs microfft, rustfft, CMSIS-DSP.
+    #[command(after_help = "Example:\n  metamoran bench fft --json")]
+    Fft {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// FFT lengths.
+        #[arg(long, value_delimiter = ',', default_value = "256,1024")]
+        sizes: Vec<usize>,
+    },
+}
+
+/// The built-in demo capture: OpenRadar's two-target Doppler example, with its config.
+const DEMO_CAPTURE: &str = "data/real/openradar_doppler_example_1/adc_data.bin";
+const DEMO_CONFIG: &str = include_str!("../../tests/data/real/openradar_doppler_example_1.toml");
+
+/// Opens a bare capture (with `config`) or the radar file of a bundle folder (checking the bundle).
+fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<RadarFile, String> {
+    match config {
+        Some(cfg) => open_bare(path, cfg, order).map_err(|e| e.to_string()),
+        None if path.is_dir() => {
+            let bundle = Bundle::open(path, OpenOptions { iq_order: order }).map_err(|e| e.to_string())?;
+            RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order).map_err(|e| e.to_string())
+        }
+        None => Err(format!(
+            "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml)",
+            path.display()
+        )),
+    }
+}
+
+fn print<T: serde::Serialize + std::fmt::Display>(value: &T, json: bool) -> Result<(), String> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(value).map_err(|e| e.to_string())?);
+    } else {
+        print!("{value}");
+    }
+    Ok(())
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Summarize { path, config, iq_order, json } => {
+            let mut file = open_capture(&path, config.as_deref(), iq_order.into())?;
+            print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
+        }
+        Command::Demo { json } => {
+            let capture = host_tools::shared_dir().join(DEMO_CAPTURE);
+            if !capture.exists() {
+                return Err(format!(
+                    "{}: the demo capture is missing; clone the repository beside shared/ or set METAMORAN_SHARED",
+                    capture.display()
+                ));
+            }
+            let config = parse_radar_config(Path::new("built-in demo config"), DEMO_CONFIG).map_err(|e| e.to_string())?;
+            let mut file = RadarFile::open(&capture, config, IqOrder::Iiqq).map_err(|e| e.to_string())?;
+            if !json {
+                println!("Demo: OpenRadar doppler_example_1 (real IWR1642-class capture, 2 TX × 4 RX, 128 loops)\n");
+            }
+            print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
+        }
+        Command::Bench { what: BenchCommand::Fft { json, sizes } } => {
+            if let Some(&bad) = sizes.iter().find(|&&n| !dsp::fft::is_supported_len(n)) {
+                return Err(format!("--sizes {bad}: use powers of two from 16 to 2048"));
+            }
+            print(&host_tools::bench::fft::run(&sizes, true), json)
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

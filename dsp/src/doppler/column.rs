@@ -78,7 +78,7 @@ impl fmt::Display for DopplerError {
 /// # Errors
 /// [`DopplerError`] on index or size mismatches.
 pub fn doppler_column(
-    cube: &RangeCube<'_>,
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[Exponent]>>,
     channel: usize,
     bin: usize,
     options: &DopplerOptions<'_>,

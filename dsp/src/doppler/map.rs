@@ -17,7 +17,7 @@ pub fn magnitude(z: CQ15, exponent: Exponent) -> f32 {
 /// # Errors
 /// [`DopplerError`] on size mismatches.
 pub fn range_doppler_map(
-    cube: &RangeCube<'_>,
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[Exponent]>>,
     options: &DopplerOptions<'_>,
     scratch: &mut [CQ15],
     out: &mut [f32],

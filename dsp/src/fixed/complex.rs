@@ -57,6 +57,18 @@ impl Complex<Q15> {
     pub fn to_f32(self) -> (f32, f32) {
         (self.re.to_f32(), self.im.to_f32())
     }
+
+    /// `self / 2^shift`, each part rounded half up; used to align block exponents.
+    pub fn scale_down(self, shift: u32) -> Self {
+        if shift == 0 {
+            return self;
+        }
+        if shift >= 16 {
+            return Self::from_raw(0, 0);
+        }
+        let f = |x: i16| (((x as i32) + (1 << (shift - 1))) >> shift) as i16;
+        Self::from_raw(f(self.re.0), f(self.im.0))
+    }
 }
 
 impl Complex<Q31> {

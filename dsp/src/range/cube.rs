@@ -8,35 +8,30 @@ use crate::fixed::CQ15;
 /// each arriving chirp writes one contiguous row; each row keeps its own block exponent.
 ///
 /// Channel `slot · rx_count + rx` holds the chirps sent in TDM slot `slot` (see
-/// [`crate::config::RadarConfig::channels`]).
-pub struct RangeCube<'a> {
-    data: &'a mut [CQ15],
-    exponents: &'a mut [Exponent],
+/// [`crate::config::RadarConfig::channels`]). Storage is anything that derefs to slices:
+/// `&mut [CQ15]` on the module, `Vec<CQ15>` on the host.
+pub struct RangeCube<D, E> {
+    data: D,
+    exponents: E,
     slots: usize,
     rx: usize,
     loops: usize,
     bins: usize,
 }
 
-impl<'a> RangeCube<'a> {
+impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
     /// Wraps storage for `slots · rx` channels × `loops` × `bins`.
     ///
     /// # Errors
     /// [`RangeError::Buffer`] if `data` or `exponents` has the wrong length.
-    pub fn new(
-        data: &'a mut [CQ15],
-        exponents: &'a mut [Exponent],
-        slots: usize,
-        rx: usize,
-        loops: usize,
-        bins: usize,
-    ) -> Result<Self, RangeError> {
+    pub fn new(data: D, exponents: E, slots: usize, rx: usize, loops: usize, bins: usize) -> Result<Self, RangeError> {
         let rows = slots * rx * loops;
-        if data.len() != rows * bins {
-            return Err(RangeError::Buffer { what: "cube data", expected: rows * bins, got: data.len() });
+        let (n_data, n_exp) = (data.as_ref().len(), exponents.as_ref().len());
+        if n_data != rows * bins {
+            return Err(RangeError::Buffer { what: "cube data", expected: rows * bins, got: n_data });
         }
-        if exponents.len() != rows {
-            return Err(RangeError::Buffer { what: "cube exponents", expected: rows, got: exponents.len() });
+        if n_exp != rows {
+            return Err(RangeError::Buffer { what: "cube exponents", expected: rows, got: n_exp });
         }
         Ok(Self { data, exponents, slots, rx, loops, bins })
     }
@@ -72,9 +67,39 @@ impl<'a> RangeCube<'a> {
     /// [`RangeError::Index`] if either index is out of range.
     pub fn row(&self, channel: usize, lp: usize) -> Result<(&[CQ15], Exponent), RangeError> {
         let r = self.row_index(channel, lp)?;
-        Ok((&self.data[r * self.bins..(r + 1) * self.bins], self.exponents[r]))
+        Ok((&self.data.as_ref()[r * self.bins..(r + 1) * self.bins], self.exponents.as_ref()[r]))
     }
 
+    /// Every row with its exponent, in `[channel][loop]` order.
+    pub fn rows(&self) -> impl Iterator<Item = (&[CQ15], Exponent)> {
+        self.data.as_ref().chunks_exact(self.bins.max(1)).zip(self.exponents.as_ref().iter().copied())
+    }
+
+    /// Copies the values of range bin `bin` of `channel` over all loops into `out[..loops]`,
+    /// aligned to their largest exponent (rounded shifts); returns that exponent.
+    ///
+    /// # Errors
+    /// [`RangeError`] if an index is out of range or `out` is shorter than the loops.
+    pub fn gather_column(&self, channel: usize, bin: usize, out: &mut [CQ15]) -> Result<Exponent, RangeError> {
+        if bin >= self.bins {
+            return Err(RangeError::Index { what: "range bin", index: bin, len: self.bins });
+        }
+        if out.len() < self.loops {
+            return Err(RangeError::Buffer { what: "column", expected: self.loops, got: out.len() });
+        }
+        let first = self.row_index(channel, 0)?;
+        let exps = &self.exponents.as_ref()[first..first + self.loops];
+        let data = self.data.as_ref();
+        let top = exps.iter().copied().max().unwrap_or_default();
+        for (lp, (o, e)) in out.iter_mut().zip(exps).enumerate() {
+            let z = data[(first + lp) * self.bins + bin];
+            *o = z.scale_down(top.0 - e.0);
+        }
+        Ok(top)
+    }
+}
+
+impl<D: AsRef<[CQ15]> + AsMut<[CQ15]>, E: AsRef<[Exponent]> + AsMut<[Exponent]>> RangeCube<D, E> {
     /// Range-processes the samples of chirp `chirp` (frame order, loop-major) of receiver `rx`
     /// into its row. O(N log N).
     ///
@@ -92,42 +117,9 @@ impl<'a> RangeCube<'a> {
         }
         let (lp, slot) = (chirp / self.slots, chirp % self.slots);
         let r = self.row_index(slot * self.rx + rx, lp)?;
-        let out = &mut self.data[r * self.bins..(r + 1) * self.bins];
-        self.exponents[r] = processor.process(samples, out)?;
+        let out = &mut self.data.as_mut()[r * self.bins..(r + 1) * self.bins];
+        self.exponents.as_mut()[r] = processor.process(samples, out)?;
         Ok(())
     }
 
-    /// Copies the values of range bin `bin` of `channel` over all loops into `out[..loops]`,
-    /// aligned to their largest exponent (rounded shifts); returns that exponent.
-    ///
-    /// # Errors
-    /// [`RangeError`] if an index is out of range or `out` is shorter than the loops.
-    pub fn gather_column(&self, channel: usize, bin: usize, out: &mut [CQ15]) -> Result<Exponent, RangeError> {
-        if bin >= self.bins {
-            return Err(RangeError::Index { what: "range bin", index: bin, len: self.bins });
-        }
-        if out.len() < self.loops {
-            return Err(RangeError::Buffer { what: "column", expected: self.loops, got: out.len() });
-        }
-        let first = self.row_index(channel, 0)?;
-        let exps = &self.exponents[first..first + self.loops];
-        let top = exps.iter().copied().max().unwrap_or_default();
-        for (lp, (o, e)) in out.iter_mut().zip(exps).enumerate() {
-            let z = self.data[(first + lp) * self.bins + bin];
-            *o = shift_right(z, top.0 - e.0);
-        }
-        Ok(top)
-    }
-}
-
-/// `z / 2^s`, rounded half up per part.
-pub(crate) fn shift_right(z: CQ15, s: u32) -> CQ15 {
-    if s == 0 {
-        return z;
-    }
-    if s >= 16 {
-        return CQ15::default();
-    }
-    let f = |x: i16| (((x as i32) + (1 << (s - 1))) >> s) as i16;
-    CQ15::from_raw(f(z.re.0), f(z.im.0))
 }

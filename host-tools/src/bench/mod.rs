@@ -1,0 +1,3 @@
+//! Benchmarks reported by `metamoran bench`: figures measured in one run against named baselines.
+
+pub mod fft;

@@ -1,0 +1,104 @@
+//! Scene bundles (`shared/spec/bundle.md`, version 1): reading and checking every field.
+//!
+//! [`Bundle::open`] checks `scene.toml`, the size of `radar.bin`, every frame's camera files
+//! (PNG headers, instance lists) and `truth.json` when present, so a bad bundle fails before any
+//! processing with an error naming the file and the field. Pixels and samples are then read per
+//! frame.
+
+mod camera;
+mod radar_file;
+mod scene;
+mod truth;
+
+pub use camera::{CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, read_instances, read_png16};
+pub use radar_file::RadarFile;
+pub use scene::{ADC_LAYOUT, CameraConfig, FORMAT, FramesField, Scene, parse_radar};
+pub use truth::{Ego, Truth, TruthFrame, TruthObject};
+
+use crate::error::InputError;
+use dsp::capture::IqOrder;
+use dsp::fixed::CQ15;
+use std::path::{Path, PathBuf};
+
+/// How to read a bundle.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct OpenOptions {
+    /// I/Q order of `radar.bin` (the format says IIQQ; QQII reads devices with sample swap set).
+    pub iq_order: IqOrder,
+}
+
+/// An opened, checked scene bundle.
+#[derive(Debug)]
+pub struct Bundle {
+    dir: PathBuf,
+    /// The parsed `scene.toml`.
+    pub scene: Scene,
+    /// Ground truth, if the bundle has it.
+    pub truth: Option<Truth>,
+    instances: Vec<Vec<Instance>>,
+    radar: RadarFile,
+}
+
+impl Bundle {
+    /// Opens the bundle in folder `dir` and checks it.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the first file and field that break the format.
+    pub fn open(dir: &Path, options: OpenOptions) -> Result<Self, InputError> {
+        if !dir.is_dir() {
+            return Err(InputError::file(dir, "is not a folder; give the bundle folder that holds scene.toml"));
+        }
+        let scene = Scene::read(&dir.join("scene.toml"))?;
+        let radar = RadarFile::open(&scene.adc_file, scene.radar.clone(), options.iq_order)?;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let mut instances = Vec::new();
+        for f in 0..scene.radar.frames {
+            let p = CameraPaths::new(dir, f);
+            camera::check_png16_header(&p.mask, w, h)?;
+            camera::check_png16_header(&p.depth, w, h)?;
+            instances.push(read_instances(&p.instances)?);
+        }
+        let truth_path = dir.join("truth.json");
+        let truth = if truth_path.exists() { Some(Truth::read(&truth_path, scene.radar.frames)?) } else { None };
+        Ok(Self { dir: dir.to_owned(), scene, truth, instances, radar })
+    }
+
+    /// The bundle folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Frames in the capture.
+    pub fn frames(&self) -> u32 {
+        self.scene.radar.frames
+    }
+
+    /// The instances of frame `frame` (empty past the last frame).
+    pub fn instances(&self, frame: u32) -> &[Instance] {
+        self.instances.get(frame as usize).map_or(&[], Vec::as_slice)
+    }
+
+    /// Reads the radar samples of frame `frame`; see [`RadarFile::read_frame`].
+    ///
+    /// # Errors
+    /// [`InputError`] if the frame cannot be read.
+    pub fn read_radar_frame(&mut self, frame: u32, out: &mut Vec<CQ15>) -> Result<(), InputError> {
+        self.radar.read_frame(frame, out)
+    }
+
+    /// Decodes the camera products of frame `frame`, checking that every mask id is listed.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the file.
+    pub fn camera_frame(&self, frame: u32) -> Result<CameraFrame, InputError> {
+        let p = CameraPaths::new(&self.dir, frame);
+        let (w, h) = (self.scene.camera.width, self.scene.camera.height);
+        let mask = read_png16(&p.mask, w, h)?;
+        let depth = read_png16(&p.depth, w, h)?;
+        let instances = self.instances(frame).to_vec();
+        if let Some(id) = mask.iter().find(|&&id| id != 0 && !instances.iter().any(|i| i.id == id)) {
+            return Err(InputError::file(&p.mask, format!("holds instance id {id}, which {} does not list", p.instances.display())));
+        }
+        Ok(CameraFrame { width: w, height: h, mask, depth, instances })
+    }
+}

@@ -1,0 +1,168 @@
+//! `scene.toml`: the format tag, the `[radar]` table and the `[camera]` table.
+
+use crate::error::{InputError, read_text};
+use crate::fields::{Fields, parse_toml};
+use dsp::config::{ConfigError, MAX_RX, MAX_SLOTS, MAX_TX, RadarConfig};
+use std::path::{Path, PathBuf};
+
+/// The exact format tag of a version-1 bundle.
+pub const FORMAT: &str = "metamoran-bundle/1";
+/// The only `adc_layout` of version 1.
+pub const ADC_LAYOUT: &str = "dca1000-xwr18xx";
+
+/// Camera intrinsics and its pose in the radar frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraConfig {
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// Focal length along x, pixels.
+    pub fx: f64,
+    /// Focal length along y, pixels.
+    pub fy: f64,
+    /// Principal point x, pixels.
+    pub cx: f64,
+    /// Principal point y, pixels.
+    pub cy: f64,
+    /// Camera centre in the radar frame, m.
+    pub translation_m: [f64; 3],
+    /// Yaw, degrees (applied first).
+    pub yaw_deg: f64,
+    /// Pitch, degrees.
+    pub pitch_deg: f64,
+    /// Roll, degrees (applied last).
+    pub roll_deg: f64,
+}
+
+/// A parsed `scene.toml`.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Free-text name.
+    pub name: String,
+    /// The radar configuration.
+    pub radar: RadarConfig,
+    /// The ADC file, resolved against the bundle directory.
+    pub adc_file: PathBuf,
+    /// The camera.
+    pub camera: CameraConfig,
+}
+
+impl Scene {
+    /// Reads and checks `scene.toml` at `path`; `adc_file` is resolved against `path`'s folder.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the first bad field.
+    pub fn read(path: &Path) -> Result<Self, InputError> {
+        let table = parse_toml(path, &read_text(path)?)?;
+        let root = Fields::root(path, &table);
+        let format = root.string("format")?;
+        if format != FORMAT {
+            return Err(root.error("format", format!("is \"{format}\"; this reader reads \"{FORMAT}\"")));
+        }
+        let name = root.string("name")?.to_owned();
+        let radar_fields = root.table("radar")?;
+        let radar = parse_radar(&radar_fields, FramesField::Required)?;
+        let adc_file = radar_fields.string("adc_file")?;
+        if adc_file.is_empty() || Path::new(adc_file).is_absolute() {
+            return Err(radar_fields.error("adc_file", "must be a file name relative to the bundle folder"));
+        }
+        let layout = radar_fields.string("adc_layout")?;
+        if layout != ADC_LAYOUT {
+            return Err(radar_fields.error("adc_layout", format!("is \"{layout}\"; version 1 has only \"{ADC_LAYOUT}\"")));
+        }
+        let camera = parse_camera(&root.table("camera")?)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Ok(Self { name, radar, adc_file: dir.join(adc_file), camera })
+    }
+}
+
+/// Whether `frames` must be given (bundles) or may be derived from the file size (bare captures).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FramesField {
+    /// `frames` must be present.
+    Required,
+    /// `frames` may be absent (then 0: derive it from the capture size).
+    Optional,
+}
+
+/// Parses a `[radar]` table (as in `scene.toml`) into a checked [`RadarConfig`].
+///
+/// # Errors
+/// [`InputError`] naming the first bad field.
+pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, InputError> {
+    let list_error = |key: &str, max: usize| f.error(key, format!("has more than {max} entries"));
+    let positions = |key: &str| -> Result<Vec<i16>, InputError> {
+        let v = f.int_list(key, i16::MIN as i64, i16::MAX as i64)?;
+        if v.is_empty() {
+            return Err(f.error(key, "must list at least one position"));
+        }
+        Ok(v.into_iter().map(|p| p as i16).collect())
+    };
+    let tx_positions = bounded::<_, MAX_TX>(positions("tx_positions")?).ok_or_else(|| list_error("tx_positions", MAX_TX))?;
+    let rx_positions = bounded::<_, MAX_RX>(positions("rx_positions")?).ok_or_else(|| list_error("rx_positions", MAX_RX))?;
+    let order = f.int_list("tx_order", 0, tx_positions.len() as i64 - 1)?;
+    if order.is_empty() {
+        return Err(f.error("tx_order", "must list at least one transmitter"));
+    }
+    let tx_order = bounded::<_, MAX_SLOTS>(order.into_iter().map(|t| t as u8).collect())
+        .ok_or_else(|| list_error("tx_order", MAX_SLOTS))?;
+    let frames = match frames {
+        FramesField::Optional if !f.has("frames") => 0,
+        _ => f.integer("frames", 1, u32::MAX as i64)? as u32,
+    };
+    let max_fft = dsp::fft::MAX_LEN as i64;
+    let adc_samples = f.integer("adc_samples", 2, max_fft)?;
+    if adc_samples % 2 != 0 {
+        return Err(f.error("adc_samples", format!("{adc_samples} must be even (DCA1000 groups hold two samples)")));
+    }
+    let config = RadarConfig {
+        start_frequency_hz: f.positive("start_frequency_hz")?,
+        slope_hz_per_s: f.positive("slope_hz_per_s")?,
+        sample_rate_hz: f.positive("sample_rate_hz")?,
+        adc_samples: adc_samples as u16,
+        chirp_period_s: f.positive("chirp_period_s")?,
+        chirps_per_tx: f.integer("chirps_per_tx", 1, max_fft)? as u16,
+        frames,
+        frame_period_s: f.positive("frame_period_s")?,
+        tx_positions,
+        rx_positions,
+        tx_order,
+    };
+    config.validate().map_err(|e| match e {
+        ConfigError::NotPositive(field) => f.error(field, "must be a positive, finite number"),
+        ConfigError::AdcSamples(_) => f.error("adc_samples", e.to_string()),
+        ConfigError::ChirpsPerTx(_) => f.error("chirps_per_tx", e.to_string()),
+        ConfigError::Empty(field) => f.error(field, e.to_string()),
+        ConfigError::TxOrder { slot, .. } => f.error(&format!("tx_order[{slot}]"), e.to_string()),
+    })?;
+    Ok(config)
+}
+
+/// Moves `v` into a fixed-capacity vector, or `None` if it is too long.
+fn bounded<T, const N: usize>(v: Vec<T>) -> Option<heapless::Vec<T, N>> {
+    let mut out = heapless::Vec::new();
+    for x in v {
+        out.push(x).ok()?;
+    }
+    Some(out)
+}
+
+fn parse_camera(f: &Fields<'_>) -> Result<CameraConfig, InputError> {
+    let translation = f.f64_list("translation_m")?;
+    let translation_m: [f64; 3] = translation
+        .try_into()
+        .map_err(|v: Vec<f64>| f.error("translation_m", format!("has {} entries; give [x, y, z] in metres", v.len())))?;
+    Ok(CameraConfig {
+        width: f.integer("width", 1, 65535)? as u32,
+        height: f.integer("height", 1, 65535)? as u32,
+        fx: f.positive("fx")?,
+        fy: f.positive("fy")?,
+        cx: f.f64("cx")?,
+        cy: f.f64("cy")?,
+        translation_m,
+        yaw_deg: f.f64("yaw_deg")?,
+        pitch_deg: f.f64("pitch_deg")?,
+        roll_deg: f.f64("roll_deg")?,
+    })
+}

@@ -1,0 +1,72 @@
+//! Input errors: every one names the file and, where there is one, the field.
+
+use std::path::{Path, PathBuf};
+
+/// A problem with an input file. The message says which file, which field, and what to do.
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    /// The file could not be read.
+    #[error("{}: cannot read it ({source}); check the path and permissions", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML or JSON.
+    #[error("{}: not valid {format}: {message}", path.display())]
+    Syntax {
+        /// The file.
+        path: PathBuf,
+        /// "TOML" or "JSON".
+        format: &'static str,
+        /// The parser's message (with line and column).
+        message: String,
+    },
+    /// A field is missing or has a bad value.
+    #[error("{}: field `{field}`: {problem}", path.display())]
+    Field {
+        /// The file.
+        path: PathBuf,
+        /// Dotted path of the field, e.g. `radar.adc_samples` or `frames[2].objects[0].depth_m`.
+        field: String,
+        /// What is wrong and what is expected.
+        problem: String,
+    },
+    /// The file as a whole is wrong (size, image format, …).
+    #[error("{}: {problem}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and what is expected.
+        problem: String,
+    },
+}
+
+impl InputError {
+    /// An I/O error on `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        Self::Io { path: path.to_owned(), source }
+    }
+
+    /// A bad field of `path`.
+    pub fn field(path: &Path, field: impl Into<String>, problem: impl Into<String>) -> Self {
+        Self::Field { path: path.to_owned(), field: field.into(), problem: problem.into() }
+    }
+
+    /// A problem with the whole of `path`.
+    pub fn file(path: &Path, problem: impl Into<String>) -> Self {
+        Self::File { path: path.to_owned(), problem: problem.into() }
+    }
+}
+
+/// Reads a whole file, naming it on failure.
+pub fn read(path: &Path) -> Result<Vec<u8>, InputError> {
+    std::fs::read(path).map_err(|e| InputError::io(path, e))
+}
+
+/// Reads a whole UTF-8 file, naming it on failure.
+pub fn read_text(path: &Path) -> Result<String, InputError> {
+    let bytes = read(path)?;
+    String::from_utf8(bytes).map_err(|e| InputError::file(path, format!("not UTF-8 text ({e})")))
+}

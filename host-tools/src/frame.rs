@@ -1,0 +1,174 @@
+//! Per-frame radar processing on the host with the module's `dsp` code: range cube, range
+//! profile, range–Doppler map, and the azimuth of any cell.
+
+use dsp::array::VirtualArray;
+use dsp::azimuth::azimuth_spectrum;
+use dsp::config::{RadarConfig, azimuth_bin_to_angle};
+use dsp::detect::quadratic_offset;
+use dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map};
+use dsp::fft::{self, Exponent};
+use dsp::fixed::{CQ15, Q15};
+use dsp::range::{RangeCube, RangeProcessor};
+use dsp::units::{AzimuthBin, Radians, signed_bin};
+use dsp::window::{self, WindowKind};
+
+/// Processing choices.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameOptions {
+    /// Window over the ADC samples before the range FFT.
+    pub range_window: WindowKind,
+    /// Window over the loops before the Doppler FFT.
+    pub doppler_window: WindowKind,
+    /// Subtract the mean over loops before the Doppler FFT.
+    pub remove_static: bool,
+}
+
+/// The spectra of one frame.
+#[derive(Clone, Debug)]
+pub struct FrameSpectra {
+    /// Mean |range spectrum| over all chirps and receivers, per range bin (linear, full scale 1).
+    pub range_profile: Vec<f32>,
+    /// |Doppler spectrum| summed over channels: `range_bins × doppler_len`, natural FFT order.
+    pub range_doppler: Vec<f32>,
+    /// Range FFT length.
+    pub range_bins: usize,
+    /// Doppler FFT length.
+    pub doppler_len: usize,
+}
+
+/// Owns the buffers for processing frames of one configuration.
+pub struct FrameProcessor {
+    config: RadarConfig,
+    options: FrameOptions,
+    range_window: Vec<Q15>,
+    doppler_window: Vec<Q15>,
+    cube: RangeCube<Vec<CQ15>, Vec<Exponent>>,
+    array: VirtualArray,
+    scratch: Vec<CQ15>,
+}
+
+impl FrameProcessor {
+    /// Buffers for `config`.
+    ///
+    /// # Errors
+    /// A message if the configuration cannot be processed.
+    pub fn new(config: &RadarConfig, options: FrameOptions) -> Result<Self, String> {
+        config.validate().map_err(|e| e.to_string())?;
+        let array = VirtualArray::new(config).map_err(|e| e.to_string())?;
+        let make = |kind, len| {
+            let mut w = vec![Q15::ZERO; len];
+            window::fill(kind, &mut w);
+            w
+        };
+        let (nr, nd, loops) = (config.range_fft_len(), config.doppler_fft_len(), config.chirps_per_tx as usize);
+        let rows = config.channels() * loops;
+        let cube = RangeCube::new(vec![CQ15::default(); rows * nr], vec![Exponent::default(); rows], config.slots(), config.rx_count(), loops, nr)
+            .map_err(|e| e.to_string())?;
+        Ok(Self {
+            config: config.clone(),
+            options,
+            range_window: make(options.range_window, config.adc_samples as usize),
+            doppler_window: make(options.doppler_window, loops),
+            cube,
+            array,
+            scratch: vec![CQ15::default(); nd],
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RadarConfig {
+        &self.config
+    }
+
+    /// The virtual array.
+    pub fn array(&self) -> &VirtualArray {
+        &self.array
+    }
+
+    fn window_of(kind: WindowKind, table: &[Q15]) -> Option<&[Q15]> {
+        (kind != WindowKind::Rectangular).then_some(table)
+    }
+
+    fn doppler_options(&self, remove_static: bool) -> DopplerOptions<'_> {
+        DopplerOptions {
+            remove_static,
+            window: Self::window_of(self.options.doppler_window, &self.doppler_window),
+        }
+    }
+
+    /// Range-processes one frame (`[chirp][rx][sample]`) into the cube and returns its spectra.
+    ///
+    /// # Errors
+    /// A message if the frame has the wrong size.
+    pub fn process(&mut self, frame: &[CQ15]) -> Result<FrameSpectra, String> {
+        let c = &self.config;
+        let (n, rx, nr, nd) = (c.adc_samples as usize, c.rx_count(), c.range_fft_len(), c.doppler_fft_len());
+        if frame.len() != c.samples_per_frame() {
+            return Err(format!("frame has {} samples; the config needs {}", frame.len(), c.samples_per_frame()));
+        }
+        let window = Self::window_of(self.options.range_window, &self.range_window);
+        let processor = RangeProcessor::new(n, nr, window).map_err(|e| e.to_string())?;
+        for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
+            for (r, samples) in rows.chunks_exact(n).enumerate() {
+                self.cube.push_chirp(&processor, chirp, r, samples).map_err(|e| e.to_string())?;
+            }
+        }
+        let mut range_profile = vec![0f32; nr];
+        let mut rows = 0;
+        for (row, exp) in self.cube.rows() {
+            rows += 1;
+            for (p, &z) in range_profile.iter_mut().zip(row) {
+                *p += magnitude(z, exp);
+            }
+        }
+        range_profile.iter_mut().for_each(|p| *p /= rows as f32);
+        let mut range_doppler = vec![0f32; nr * nd];
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let result = range_doppler_map(&self.cube, &self.doppler_options(self.options.remove_static), &mut scratch, &mut range_doppler);
+        self.scratch = scratch;
+        result.map_err(|e| e.to_string())?;
+        Ok(FrameSpectra { range_profile, range_doppler, range_bins: nr, doppler_len: nd })
+    }
+
+    /// Azimuth of the strongest direction at range bin `bin`, Doppler index `doppler` (natural
+    /// FFT order; index 0 without static removal is the static scene) of the last processed
+    /// frame, by a zero-padded azimuth FFT with quadratic interpolation. `None` if the peak lies
+    /// outside the visible region.
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn azimuth_at(&mut self, bin: usize, doppler: usize, remove_static: bool) -> Result<Option<Radians>, String> {
+        let channels = self.array.channels();
+        let mut values = Vec::with_capacity(channels);
+        let mut exps = Vec::with_capacity(channels);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        for ch in 0..channels {
+            let r = doppler_column(&self.cube, ch, bin, &self.doppler_options(remove_static), &mut scratch);
+            let exp = match r {
+                Ok(e) => e,
+                Err(e) => {
+                    self.scratch = scratch;
+                    return Err(e.to_string());
+                }
+            };
+            values.push(*scratch.get(doppler).ok_or_else(|| format!("Doppler index {doppler} out of range"))?);
+            exps.push(exp.0);
+        }
+        self.scratch = scratch;
+        let top = exps.iter().copied().max().unwrap_or(0);
+        let aligned: Vec<CQ15> = values
+            .iter()
+            .zip(&exps)
+            .map(|(z, &e)| z.scale_down(top - e))
+            .collect();
+        let na = fft::padded_len((4 * self.array.span()).max(64)).unwrap_or(fft::MAX_LEN);
+        let mut spec = vec![CQ15::default(); na];
+        azimuth_spectrum(&self.array, &aligned, &mut spec).map_err(|e| e.to_string())?;
+        let mag: Vec<f32> = spec.iter().map(|&z| magnitude(z, Exponent(0))).collect();
+        let k = (0..na).max_by(|&a, &b| mag[a].total_cmp(&mag[b])).unwrap_or(0);
+        let db = |i: usize| 20.0 * (mag[i % na].max(1e-30)).log10();
+        let offset = quadratic_offset(db(k + na - 1), db(k), db(k + 1));
+        let bin = signed_bin(k, na) as f32 + offset;
+        Ok(azimuth_bin_to_angle(AzimuthBin(bin), na))
+    }
+}

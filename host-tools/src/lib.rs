@@ -1,0 +1,20 @@
+//! Host side of the Metamoran runtime: scene-bundle and capture readers, per-frame processing
+//! with the module's `dsp` code, summaries and benchmarks. The `metamoran` binary is a thin CLI
+//! over this library.
+
+pub mod bench;
+pub mod bundle;
+pub mod capture;
+pub mod error;
+pub mod fields;
+pub mod frame;
+pub mod oracle;
+pub mod summary;
+
+/// Where the shared data folder (`shared/`, beside the repository) is: `$METAMORAN_SHARED` or
+/// `../shared` from the workspace root.
+pub fn shared_dir() -> std::path::PathBuf {
+    std::env::var_os("METAMORAN_SHARED")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared"))
+}

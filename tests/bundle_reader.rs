@@ -1,0 +1,221 @@
+//! The scene-bundle reader against bundle.md: a valid bundle reads back exactly, and each kind
+//! of violation is an error that names the file and the field.
+
+use dsp::capture::IqOrder;
+use host_tools::bundle::{Bundle, OpenOptions};
+use std::path::Path;
+
+const SCENE: &str = r#"format = "metamoran-bundle/1"
+name = "hand-made"
+
+[radar]
+start_frequency_hz = 77.0e9
+slope_hz_per_s     = 29.982e12
+sample_rate_hz     = 10.0e6
+adc_samples        = 8
+chirp_period_s     = 60.0e-6
+chirps_per_tx      = 2
+frames             = 2
+frame_period_s     = 0.1
+tx_positions       = [0, 4]
+rx_positions       = [0, 1, 2, 3]
+tx_order           = [0, 1]
+adc_file           = "radar.bin"
+adc_layout         = "dca1000-xwr18xx"
+
+[camera]
+width  = 8
+height = 4
+fx = 1000.0
+fy = 1000.0
+cx = 4.0
+cy = 2.0
+translation_m = [0.0, -0.15, 0.0]
+yaw_deg   = 0.0
+pitch_deg = 0.0
+roll_deg  = 0.0
+"#;
+
+/// Samples per frame: 2 loops × 2 slots × 4 RX × 8 samples.
+const PER_FRAME: usize = 2 * 2 * 4 * 8;
+
+fn write_png(path: &Path, width: u32, height: u32, depth: png::BitDepth, values: &[u16]) {
+    let file = std::fs::File::create(path).unwrap();
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    enc.set_color(png::ColorType::Grayscale);
+    enc.set_depth(depth);
+    let mut w = enc.write_header().unwrap();
+    let bytes: Vec<u8> = match depth {
+        png::BitDepth::Sixteen => values.iter().flat_map(|v| v.to_be_bytes()).collect(),
+        _ => values.iter().map(|&v| v as u8).collect(),
+    };
+    w.write_image_data(&bytes).unwrap();
+}
+
+/// Raw I/Q of complex sample `k` of the file: distinct values everywhere.
+fn iq(k: usize) -> (i16, i16) {
+    ((k as i16).wrapping_mul(7) - 1000, 3000 - (k as i16).wrapping_mul(5))
+}
+
+/// Writes a valid two-frame bundle into `dir`.
+fn write_bundle(dir: &Path) {
+    std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
+    let mut bytes = Vec::new();
+    for g in 0..(2 * PER_FRAME / 2) {
+        let ((i0, q0), (i1, q1)) = (iq(2 * g), iq(2 * g + 1));
+        for w in [i0, i1, q0, q1] {
+            bytes.extend_from_slice(&w.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.join("radar.bin"), bytes).unwrap();
+    std::fs::create_dir(dir.join("camera")).unwrap();
+    for f in 0..2 {
+        let mask: Vec<u16> = (0..32).map(|p| if p % 8 >= 3 && p % 8 <= 5 { 1 } else if p % 8 == 0 { 2 } else { 0 }).collect();
+        let depth: Vec<u16> = (0..32).map(|p| 256 * 20 + p as u16).collect();
+        write_png(&dir.join(format!("camera/{f:06}_mask.png")), 8, 4, png::BitDepth::Sixteen, &mask);
+        write_png(&dir.join(format!("camera/{f:06}_depth.png")), 8, 4, png::BitDepth::Sixteen, &depth);
+        std::fs::write(
+            dir.join(format!("camera/{f:06}_instances.json")),
+            r#"{"instances": [{"id": 1, "class": "car"}, {"id": 2, "class": "wall"}]}"#,
+        )
+        .unwrap();
+    }
+    std::fs::write(
+        dir.join("truth.json"),
+        r#"{"frames": [{"frame": 0, "ego": {"x": 0.0, "z": 0.0, "yaw": 0.0, "vx": 0.0, "vz": 0.0},
+            "objects": [{"instance": 1, "class": "car", "depth_m": 20.1, "azimuth_deg": 0.0,
+                         "radial_velocity_mps": 0.0, "points": [[0.0, 0.2, 20.1]]}]}]}"#,
+    )
+    .unwrap();
+}
+
+fn open(dir: &Path) -> Result<Bundle, String> {
+    Bundle::open(dir, OpenOptions::default()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn valid_bundle_reads_back_exactly() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    let mut b = open(tmp.path()).unwrap();
+    assert_eq!(b.frames(), 2);
+    assert_eq!(b.scene.name, "hand-made");
+    assert_eq!(b.instances(1)[1].class, "wall");
+    assert!(b.instances(0)[0].is_object_of_interest() && b.instances(0)[1].is_clutter());
+    let mut s = Vec::new();
+    for f in 0..2 {
+        b.read_radar_frame(f, &mut s).unwrap();
+        for (k, z) in s.iter().enumerate() {
+            assert_eq!((z.re.0, z.im.0), iq(f as usize * PER_FRAME + k), "frame {f} sample {k}");
+        }
+    }
+    let cam = b.camera_frame(1).unwrap();
+    assert_eq!(cam.mask[3], 1);
+    assert_eq!(cam.depth_m(1, 0), Some(20.0 + 1.0 / 256.0));
+    assert_eq!(b.truth.as_ref().unwrap().frames[0].objects[0].depth_m, 20.1);
+    // The QQII option swaps the pairs.
+    let mut q = Bundle::open(tmp.path(), OpenOptions { iq_order: IqOrder::Qqii }).unwrap();
+    q.read_radar_frame(0, &mut s).unwrap();
+    assert_eq!((s[0].re.0, s[0].im.0), (iq(0).1, iq(0).0));
+}
+
+/// Applies `corrupt` to a fresh valid bundle and returns the open error.
+fn error_after(corrupt: impl FnOnce(&Path)) -> String {
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    corrupt(tmp.path());
+    match open(tmp.path()) {
+        Ok(b) => b.camera_frame(0).map(|_| ()).map_err(|e| e.to_string()).expect_err("corrupt bundle accepted"),
+        Err(e) => e,
+    }
+}
+
+fn edit_scene(dir: &Path, from: &str, to: &str) {
+    let p = dir.join("scene.toml");
+    let s = std::fs::read_to_string(&p).unwrap();
+    assert!(s.contains(from), "test bug: {from:?} not in scene.toml");
+    std::fs::write(p, s.replacen(from, to, 1)).unwrap();
+}
+
+fn assert_names(err: &str, file: &str, field: &str) {
+    assert!(err.contains(file) && err.contains(field), "error does not name {file} / {field}: {err}");
+}
+
+#[test]
+fn scene_toml_violations_name_the_field() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("metamoran-bundle/1", "metamoran-bundle/2", "`format`"),
+        ("slope_hz_per_s     = 29.982e12\n", "", "`radar.slope_hz_per_s`"),
+        ("slope_hz_per_s     = 29.982e12", "slope_hz_per_s = nan", "`radar.slope_hz_per_s`"),
+        ("sample_rate_hz     = 10.0e6", "sample_rate_hz = -1.0", "`radar.sample_rate_hz`"),
+        ("adc_samples        = 8", "adc_samples = 7", "`radar.adc_samples`"),
+        ("adc_samples        = 8", "adc_samples = \"8\"", "`radar.adc_samples`"),
+        ("tx_order           = [0, 1]", "tx_order = [0, 2]", "`radar.tx_order[1]`"),
+        ("rx_positions       = [0, 1, 2, 3]", "rx_positions = [0, 1.5, 2, 3]", "`radar.rx_positions[1]`"),
+        ("rx_positions       = [0, 1, 2, 3]", "rx_positions = []", "`radar.rx_positions`"),
+        ("adc_layout         = \"dca1000-xwr18xx\"", "adc_layout = \"dca1000-xwr16xx\"", "`radar.adc_layout`"),
+        ("translation_m = [0.0, -0.15, 0.0]", "translation_m = [0.0, -0.15]", "`camera.translation_m`"),
+        ("width  = 8", "width  = 0", "`camera.width`"),
+        ("frames             = 2", "frames = 0", "`radar.frames`"),
+    ];
+    for (from, to, field) in cases {
+        let err = error_after(|d| edit_scene(d, from, to));
+        assert_names(&err, "scene.toml", field);
+    }
+    let err = error_after(|d| std::fs::write(d.join("scene.toml"), "format = \n").unwrap());
+    assert_names(&err, "scene.toml", "TOML");
+}
+
+#[test]
+fn radar_bin_size_must_match_the_config() {
+    let err = error_after(|d| {
+        let p = d.join("radar.bin");
+        let b = std::fs::read(&p).unwrap();
+        std::fs::write(&p, &b[..b.len() - 4]).unwrap();
+    });
+    assert_names(&err, "radar.bin", "bytes");
+    let err = error_after(|d| edit_scene(d, "chirps_per_tx      = 2", "chirps_per_tx = 3"));
+    assert_names(&err, "radar.bin", "chirps_per_tx");
+    let err = error_after(|d| std::fs::remove_file(d.join("radar.bin")).unwrap());
+    assert_names(&err, "radar.bin", "cannot read");
+}
+
+#[test]
+fn camera_violations_name_the_file() {
+    let err = error_after(|d| write_png(&d.join("camera/000001_mask.png"), 8, 3, png::BitDepth::Sixteen, &[0; 24]));
+    assert_names(&err, "000001_mask.png", "8×3");
+    let err = error_after(|d| write_png(&d.join("camera/000000_depth.png"), 8, 4, png::BitDepth::Eight, &[0; 32]));
+    assert_names(&err, "000000_depth.png", "16-bit");
+    let err = error_after(|d| std::fs::write(d.join("camera/000000_mask.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap());
+    assert_names(&err, "000000_mask.png", "PNG");
+    let err = error_after(|d| std::fs::remove_file(d.join("camera/000001_depth.png")).unwrap());
+    assert_names(&err, "000001_depth.png", "cannot read");
+    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": 5}]}"#).unwrap());
+    assert_names(&err, "000000_instances.json", "instances[0].class");
+    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": "car"}, {"id": 1, "class": "car"}]}"#).unwrap());
+    assert_names(&err, "000000_instances.json", "instances[1].id");
+    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": "car"}]}"#).unwrap());
+    assert_names(&err, "000000_mask.png", "instance id 2");
+}
+
+#[test]
+fn truth_violations_name_the_field() {
+    let err = error_after(|d| {
+        let p = d.join("truth.json");
+        let s = std::fs::read_to_string(&p).unwrap().replace("\"depth_m\": 20.1", "\"depth_m\": -3");
+        std::fs::write(p, s).unwrap();
+    });
+    assert_names(&err, "truth.json", "frames[0].objects[0].depth_m");
+    let err = error_after(|d| {
+        let p = d.join("truth.json");
+        let s = std::fs::read_to_string(&p).unwrap().replace("\"vz\": 0.0", "\"vz\": \"fast\"");
+        std::fs::write(p, s).unwrap();
+    });
+    assert_names(&err, "truth.json", "frames[0].ego.vz");
+    let err = error_after(|d| {
+        let p = d.join("truth.json");
+        let s = std::fs::read_to_string(&p).unwrap().replace("\"frame\": 0", "\"frame\": 9");
+        std::fs::write(p, s).unwrap();
+    });
+    assert_names(&err, "truth.json", "frames[0].frame");
+}
