@@ -54,7 +54,10 @@ fn write_png(path: &Path, width: u32, height: u32, depth: png::BitDepth, values:
 
 /// Raw I/Q of complex sample `k` of the file: distinct values everywhere.
 fn iq(k: usize) -> (i16, i16) {
-    ((k as i16).wrapping_mul(7) - 1000, 3000 - (k as i16).wrapping_mul(5))
+    (
+        (k as i16).wrapping_mul(7) - 1000,
+        3000 - (k as i16).wrapping_mul(5),
+    )
 }
 
 /// Writes a valid two-frame bundle into `dir`.
@@ -70,10 +73,32 @@ fn write_bundle(dir: &Path) {
     std::fs::write(dir.join("radar.bin"), bytes).unwrap();
     std::fs::create_dir(dir.join("camera")).unwrap();
     for f in 0..2 {
-        let mask: Vec<u16> = (0..32).map(|p| if p % 8 >= 3 && p % 8 <= 5 { 1 } else if p % 8 == 0 { 2 } else { 0 }).collect();
+        let mask: Vec<u16> = (0..32)
+            .map(|p| {
+                if p % 8 >= 3 && p % 8 <= 5 {
+                    1
+                } else if p % 8 == 0 {
+                    2
+                } else {
+                    0
+                }
+            })
+            .collect();
         let depth: Vec<u16> = (0..32).map(|p| 256 * 20 + p as u16).collect();
-        write_png(&dir.join(format!("camera/{f:06}_mask.png")), 8, 4, png::BitDepth::Sixteen, &mask);
-        write_png(&dir.join(format!("camera/{f:06}_depth.png")), 8, 4, png::BitDepth::Sixteen, &depth);
+        write_png(
+            &dir.join(format!("camera/{f:06}_mask.png")),
+            8,
+            4,
+            png::BitDepth::Sixteen,
+            &mask,
+        );
+        write_png(
+            &dir.join(format!("camera/{f:06}_depth.png")),
+            8,
+            4,
+            png::BitDepth::Sixteen,
+            &depth,
+        );
         std::fs::write(
             dir.join(format!("camera/{f:06}_instances.json")),
             r#"{"instances": [{"id": 1, "class": "car"}, {"id": 2, "class": "wall"}]}"#,
@@ -106,7 +131,11 @@ fn valid_bundle_reads_back_exactly() {
     for f in 0..2 {
         b.read_radar_frame(f, &mut s).unwrap();
         for (k, z) in s.iter().enumerate() {
-            assert_eq!((z.re.0, z.im.0), iq(f as usize * PER_FRAME + k), "frame {f} sample {k}");
+            assert_eq!(
+                (z.re.0, z.im.0),
+                iq(f as usize * PER_FRAME + k),
+                "frame {f} sample {k}"
+            );
         }
     }
     let cam = b.camera_frame(1).unwrap();
@@ -114,7 +143,13 @@ fn valid_bundle_reads_back_exactly() {
     assert_eq!(cam.depth_m(1, 0), Some(20.0 + 1.0 / 256.0));
     assert_eq!(b.truth.as_ref().unwrap().frames[0].objects[0].depth_m, 20.1);
     // The QQII option swaps the pairs.
-    let mut q = Bundle::open(tmp.path(), OpenOptions { iq_order: IqOrder::Qqii }).unwrap();
+    let mut q = Bundle::open(
+        tmp.path(),
+        OpenOptions {
+            iq_order: IqOrder::Qqii,
+        },
+    )
+    .unwrap();
     q.read_radar_frame(0, &mut s).unwrap();
     assert_eq!((s[0].re.0, s[0].im.0), (iq(0).1, iq(0).0));
 }
@@ -125,7 +160,11 @@ fn error_after(corrupt: impl FnOnce(&Path)) -> String {
     write_bundle(tmp.path());
     corrupt(tmp.path());
     match open(tmp.path()) {
-        Ok(b) => b.camera_frame(0).map(|_| ()).map_err(|e| e.to_string()).expect_err("corrupt bundle accepted"),
+        Ok(b) => b
+            .camera_frame(0)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+            .expect_err("corrupt bundle accepted"),
         Err(e) => e,
     }
 }
@@ -138,23 +177,66 @@ fn edit_scene(dir: &Path, from: &str, to: &str) {
 }
 
 fn assert_names(err: &str, file: &str, field: &str) {
-    assert!(err.contains(file) && err.contains(field), "error does not name {file} / {field}: {err}");
+    assert!(
+        err.contains(file) && err.contains(field),
+        "error does not name {file} / {field}: {err}"
+    );
 }
 
 #[test]
 fn scene_toml_violations_name_the_field() {
     let cases: &[(&str, &str, &str)] = &[
         ("metamoran-bundle/1", "metamoran-bundle/2", "`format`"),
-        ("slope_hz_per_s     = 29.982e12\n", "", "`radar.slope_hz_per_s`"),
-        ("slope_hz_per_s     = 29.982e12", "slope_hz_per_s = nan", "`radar.slope_hz_per_s`"),
-        ("sample_rate_hz     = 10.0e6", "sample_rate_hz = -1.0", "`radar.sample_rate_hz`"),
-        ("adc_samples        = 8", "adc_samples = 7", "`radar.adc_samples`"),
-        ("adc_samples        = 8", "adc_samples = \"8\"", "`radar.adc_samples`"),
-        ("tx_order           = [0, 1]", "tx_order = [0, 2]", "`radar.tx_order[1]`"),
-        ("rx_positions       = [0, 1, 2, 3]", "rx_positions = [0, 1.5, 2, 3]", "`radar.rx_positions[1]`"),
-        ("rx_positions       = [0, 1, 2, 3]", "rx_positions = []", "`radar.rx_positions`"),
-        ("adc_layout         = \"dca1000-xwr18xx\"", "adc_layout = \"dca1000-xwr16xx\"", "`radar.adc_layout`"),
-        ("translation_m = [0.0, -0.15, 0.0]", "translation_m = [0.0, -0.15]", "`camera.translation_m`"),
+        (
+            "slope_hz_per_s     = 29.982e12\n",
+            "",
+            "`radar.slope_hz_per_s`",
+        ),
+        (
+            "slope_hz_per_s     = 29.982e12",
+            "slope_hz_per_s = nan",
+            "`radar.slope_hz_per_s`",
+        ),
+        (
+            "sample_rate_hz     = 10.0e6",
+            "sample_rate_hz = -1.0",
+            "`radar.sample_rate_hz`",
+        ),
+        (
+            "adc_samples        = 8",
+            "adc_samples = 7",
+            "`radar.adc_samples`",
+        ),
+        (
+            "adc_samples        = 8",
+            "adc_samples = \"8\"",
+            "`radar.adc_samples`",
+        ),
+        (
+            "tx_order           = [0, 1]",
+            "tx_order = [0, 2]",
+            "`radar.tx_order[1]`",
+        ),
+        (
+            "rx_positions       = [0, 1, 2, 3]",
+            "rx_positions = [0, 1.5, 2, 3]",
+            "`radar.rx_positions[1]`",
+        ),
+        (
+            "rx_positions       = [0, 1, 2, 3]",
+            "rx_positions = []",
+            "`radar.rx_positions`",
+        ),
+        (
+            "adc_layout         = \"dca1000-xwr18xx\"",
+            "adc_layout = \"dca1000-xwr16xx\"",
+            "`radar.adc_layout`",
+        ),
+        (
+            "translation_m = [0.0, -0.15, 0.0]",
+            "translation_m = [0.0, -0.15]",
+            "`camera.translation_m`",
+        ),
         ("width  = 8", "width  = 0", "`camera.width`"),
         ("frames             = 2", "frames = 0", "`radar.frames`"),
     ];
@@ -182,19 +264,59 @@ fn radar_bin_size_must_match_the_config() {
 
 #[test]
 fn camera_violations_name_the_file() {
-    let err = error_after(|d| write_png(&d.join("camera/000001_mask.png"), 8, 3, png::BitDepth::Sixteen, &[0; 24]));
+    let err = error_after(|d| {
+        write_png(
+            &d.join("camera/000001_mask.png"),
+            8,
+            3,
+            png::BitDepth::Sixteen,
+            &[0; 24],
+        )
+    });
     assert_names(&err, "000001_mask.png", "8×3");
-    let err = error_after(|d| write_png(&d.join("camera/000000_depth.png"), 8, 4, png::BitDepth::Eight, &[0; 32]));
+    let err = error_after(|d| {
+        write_png(
+            &d.join("camera/000000_depth.png"),
+            8,
+            4,
+            png::BitDepth::Eight,
+            &[0; 32],
+        )
+    });
     assert_names(&err, "000000_depth.png", "16-bit");
-    let err = error_after(|d| std::fs::write(d.join("camera/000000_mask.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap());
+    let err = error_after(|d| {
+        std::fs::write(
+            d.join("camera/000000_mask.png"),
+            b"\x89PNG\r\n\x1a\nnot really",
+        )
+        .unwrap()
+    });
     assert_names(&err, "000000_mask.png", "PNG");
     let err = error_after(|d| std::fs::remove_file(d.join("camera/000001_depth.png")).unwrap());
     assert_names(&err, "000001_depth.png", "cannot read");
-    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": 5}]}"#).unwrap());
+    let err = error_after(|d| {
+        std::fs::write(
+            d.join("camera/000000_instances.json"),
+            r#"{"instances": [{"id": 1, "class": 5}]}"#,
+        )
+        .unwrap()
+    });
     assert_names(&err, "000000_instances.json", "instances[0].class");
-    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": "car"}, {"id": 1, "class": "car"}]}"#).unwrap());
+    let err = error_after(|d| {
+        std::fs::write(
+            d.join("camera/000000_instances.json"),
+            r#"{"instances": [{"id": 1, "class": "car"}, {"id": 1, "class": "car"}]}"#,
+        )
+        .unwrap()
+    });
     assert_names(&err, "000000_instances.json", "instances[1].id");
-    let err = error_after(|d| std::fs::write(d.join("camera/000000_instances.json"), r#"{"instances": [{"id": 1, "class": "car"}]}"#).unwrap());
+    let err = error_after(|d| {
+        std::fs::write(
+            d.join("camera/000000_instances.json"),
+            r#"{"instances": [{"id": 1, "class": "car"}]}"#,
+        )
+        .unwrap()
+    });
     assert_names(&err, "000000_mask.png", "instance id 2");
 }
 
@@ -202,19 +324,25 @@ fn camera_violations_name_the_file() {
 fn truth_violations_name_the_field() {
     let err = error_after(|d| {
         let p = d.join("truth.json");
-        let s = std::fs::read_to_string(&p).unwrap().replace("\"depth_m\": 20.1", "\"depth_m\": -3");
+        let s = std::fs::read_to_string(&p)
+            .unwrap()
+            .replace("\"depth_m\": 20.1", "\"depth_m\": -3");
         std::fs::write(p, s).unwrap();
     });
     assert_names(&err, "truth.json", "frames[0].objects[0].depth_m");
     let err = error_after(|d| {
         let p = d.join("truth.json");
-        let s = std::fs::read_to_string(&p).unwrap().replace("\"vz\": 0.0", "\"vz\": \"fast\"");
+        let s = std::fs::read_to_string(&p)
+            .unwrap()
+            .replace("\"vz\": 0.0", "\"vz\": \"fast\"");
         std::fs::write(p, s).unwrap();
     });
     assert_names(&err, "truth.json", "frames[0].ego.vz");
     let err = error_after(|d| {
         let p = d.join("truth.json");
-        let s = std::fs::read_to_string(&p).unwrap().replace("\"frame\": 0", "\"frame\": 9");
+        let s = std::fs::read_to_string(&p)
+            .unwrap()
+            .replace("\"frame\": 0", "\"frame\": 9");
         std::fs::write(p, s).unwrap();
     });
     assert_names(&err, "truth.json", "frames[0].frame");

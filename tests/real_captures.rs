@@ -11,42 +11,75 @@ use serde_json::Value;
 
 fn expected(name: &str) -> Value {
     let path = real_capture_dir(name).join("expected.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e} (is shared/ beside the repo?)", path.display()));
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (is shared/ beside the repo?)", path.display()));
     serde_json::from_str(&text).unwrap()
 }
 
 fn spectra(name: &str, order: IqOrder, window: WindowKind) -> FrameSpectra {
-    let mut file = open_bare(&real_capture_dir(name).join("adc_data.bin"), &real_capture_config(name), order).unwrap();
-    assert_eq!(file.config().frames, 1, "each real capture is one frame with our configs");
+    let mut file = open_bare(
+        &real_capture_dir(name).join("adc_data.bin"),
+        &real_capture_config(name),
+        order,
+    )
+    .unwrap();
+    assert_eq!(
+        file.config().frames,
+        1,
+        "each real capture is one frame with our configs"
+    );
     let mut samples = Vec::new();
     file.read_frame(0, &mut samples).unwrap();
-    let options = FrameOptions { range_window: window, doppler_window: WindowKind::Rectangular, remove_static: true };
-    FrameProcessor::new(file.config(), options).unwrap().process(&samples).unwrap()
+    let options = FrameOptions {
+        range_window: window,
+        doppler_window: WindowKind::Rectangular,
+        remove_static: true,
+    };
+    FrameProcessor::new(file.config(), options)
+        .unwrap()
+        .process(&samples)
+        .unwrap()
 }
 
 fn bins(v: &Value) -> Vec<usize> {
-    v.as_array().unwrap().iter().map(|b| b.as_u64().unwrap() as usize).collect()
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b.as_u64().unwrap() as usize)
+        .collect()
 }
 
 /// Top-3 range bins (ordered, or as a set where the margins are within 1%) and the top-5
 /// magnitudes to 0.5% (int16 units, as the recipe reads them).
 fn check_range(name: &str, order: IqOrder) {
     let exp = expected(name);
-    for (key, window) in [("no_window", WindowKind::Rectangular), ("hann", WindowKind::Hann)] {
+    for (key, window) in [
+        ("no_window", WindowKind::Rectangular),
+        ("hann", WindowKind::Hann),
+    ] {
         let reference = &exp["range_fft"][key];
         let s = spectra(name, order, window);
         let profile: Vec<f32> = s.range_profile.iter().map(|m| m * 32768.0).collect();
         let mut got = top_k(&profile, 3);
         let mut want = bins(&reference["top3_bins"]);
-        if reference["margin_3rd_over_4th"].as_f64().unwrap() < 1.02 || name == "openradar_frame" && key == "hann" {
+        if reference["margin_3rd_over_4th"].as_f64().unwrap() < 1.02
+            || name == "openradar_frame" && key == "hann"
+        {
             got.sort();
             want.sort();
         }
         assert_eq!(got, want, "{name} {key}: top-3 range bins");
-        for (bin, mag) in bins(&reference["top5_bins"]).iter().zip(reference["top5_mean_magnitude"].as_array().unwrap()) {
+        for (bin, mag) in bins(&reference["top5_bins"])
+            .iter()
+            .zip(reference["top5_mean_magnitude"].as_array().unwrap())
+        {
             let mag = mag.as_f64().unwrap();
             let rel = (profile[*bin] as f64 - mag).abs() / mag;
-            assert!(rel < 5e-3, "{name} {key}: bin {bin} magnitude {} vs {mag}", profile[*bin]);
+            assert!(
+                rel < 5e-3,
+                "{name} {key}: bin {bin} magnitude {} vs {mag}",
+                profile[*bin]
+            );
         }
     }
 }
@@ -57,12 +90,26 @@ fn check_range_doppler(name: &str) {
     let reference = &exp["range_doppler_clutter_removed"]["no_window"];
     let s = spectra(name, IqOrder::Iiqq, WindowKind::Rectangular);
     let arg = top_k(&s.range_doppler, 1)[0];
-    let (r, d) = (arg / s.doppler_len, signed_bin(arg % s.doppler_len, s.doppler_len));
-    assert_eq!(r as u64, reference["range_bin"].as_u64().unwrap(), "{name}: RD range bin");
-    assert_eq!(d as i64, reference["doppler_bin_signed"].as_i64().unwrap(), "{name}: RD Doppler bin");
+    let (r, d) = (
+        arg / s.doppler_len,
+        signed_bin(arg % s.doppler_len, s.doppler_len),
+    );
+    assert_eq!(
+        r as u64,
+        reference["range_bin"].as_u64().unwrap(),
+        "{name}: RD range bin"
+    );
+    assert_eq!(
+        d as i64,
+        reference["doppler_bin_signed"].as_i64().unwrap(),
+        "{name}: RD Doppler bin"
+    );
     let peak = s.range_doppler[arg] as f64 * 32768.0;
     let want = reference["peak_value"].as_f64().unwrap();
-    assert!((peak - want).abs() / want < 1e-2, "{name}: RD peak {peak} vs {want}");
+    assert!(
+        (peak - want).abs() / want < 1e-2,
+        "{name}: RD peak {peak} vs {want}"
+    );
 }
 
 #[test]
@@ -82,10 +129,18 @@ fn openradar_frame_chirp0_only() {
     // The first chirp alone (chirp.txt of the source) through the same range processor.
     let name = "openradar_frame";
     let exp = expected(name);
-    let mut file = open_bare(&real_capture_dir(name).join("adc_data.bin"), &real_capture_config(name), IqOrder::Iiqq).unwrap();
+    let mut file = open_bare(
+        &real_capture_dir(name).join("adc_data.bin"),
+        &real_capture_config(name),
+        IqOrder::Iiqq,
+    )
+    .unwrap();
     let mut samples = Vec::new();
     file.read_frame(0, &mut samples).unwrap();
-    for (key, window) in [("no_window", WindowKind::Rectangular), ("hann", WindowKind::Hann)] {
+    for (key, window) in [
+        ("no_window", WindowKind::Rectangular),
+        ("hann", WindowKind::Hann),
+    ] {
         let mut coeffs = vec![dsp::fixed::Q15::ZERO; 128];
         dsp::window::fill(window, &mut coeffs);
         let w = (window != WindowKind::Rectangular).then_some(coeffs.as_slice());
@@ -93,7 +148,11 @@ fn openradar_frame_chirp0_only() {
         let mut out = vec![dsp::fixed::CQ15::default(); 128];
         let e = proc.process(&samples[..128], &mut out).unwrap();
         let mag: Vec<f32> = out.iter().map(|&z| dsp::doppler::magnitude(z, e)).collect();
-        assert_eq!(top_k(&mag, 3), bins(&exp["range_fft_chirp0_only"][key]["top3_bins"]), "chirp 0 {key}");
+        assert_eq!(
+            top_k(&mag, 3),
+            bins(&exp["range_fft_chirp0_only"][key]["top3_bins"]),
+            "chirp 0 {key}"
+        );
     }
 }
 
@@ -110,13 +169,25 @@ fn mmwave_capture_std_qqii() {
     let exp = expected(name);
     let check = &exp["iq_order_check"];
     // Sample values published by the capture tool's own tests (flat complex index).
-    let mut file = open_bare(&real_capture_dir(name).join("adc_data.bin"), &real_capture_config(name), IqOrder::Qqii).unwrap();
+    let mut file = open_bare(
+        &real_capture_dir(name).join("adc_data.bin"),
+        &real_capture_config(name),
+        IqOrder::Qqii,
+    )
+    .unwrap();
     let mut samples = Vec::new();
     file.read_frame(0, &mut samples).unwrap();
-    for (index, value) in check["known_values_complex_index_in_file"].as_object().unwrap() {
+    for (index, value) in check["known_values_complex_index_in_file"]
+        .as_object()
+        .unwrap()
+    {
         let i: usize = index.parse().unwrap();
         let v = value.as_array().unwrap();
-        assert_eq!((samples[i].re.0 as i64, samples[i].im.0 as i64), (v[0].as_i64().unwrap(), v[1].as_i64().unwrap()), "sample {i}");
+        assert_eq!(
+            (samples[i].re.0 as i64, samples[i].im.0 as i64),
+            (v[0].as_i64().unwrap(), v[1].as_i64().unwrap()),
+            "sample {i}"
+        );
     }
     // Read in the wrong order, the spectrum mirrors: the stated wrong peaks appear.
     let wrong = spectra(name, IqOrder::Iiqq, WindowKind::Rectangular);

@@ -9,7 +9,9 @@ pub fn real_capture_dir(name: &str) -> PathBuf {
 
 /// The radar config we ship for real capture `name`.
 pub fn real_capture_config(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/real").join(format!("{name}.toml"))
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data/real")
+        .join(format!("{name}.toml"))
 }
 
 /// Whether tests that need an external oracle (venv, QEMU) must run rather than skip:

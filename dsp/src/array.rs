@@ -34,13 +34,20 @@ pub enum ArrayError {
 impl fmt::Display for ArrayError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Self::Config => write!(f, "the radar config has no virtual channels: check tx_order and the positions"),
+            Self::Config => write!(
+                f,
+                "the radar config has no virtual channels: check tx_order and the positions"
+            ),
             Self::Span(s) => write!(
                 f,
                 "the virtual array spans {s} half-wavelengths, more than the largest FFT ({})",
                 crate::fft::MAX_LEN
             ),
-            Self::Buffer { what, expected, got } => {
+            Self::Buffer {
+                what,
+                expected,
+                got,
+            } => {
                 write!(f, "{what} holds {got} entries but {expected} are needed")
             }
         }
@@ -80,15 +87,23 @@ impl VirtualArray {
             return Err(ArrayError::Span(span));
         }
         let mut count_at: Vec<u8, { crate::fft::MAX_LEN }> = Vec::new();
-        count_at.resize(span, 0).map_err(|_| ArrayError::Span(span))?;
+        count_at
+            .resize(span, 0)
+            .map_err(|_| ArrayError::Span(span))?;
         let mut position_of_channel = Vec::new();
         for p in raw {
             let rel = (p - min) as usize;
             count_at[rel] = count_at[rel].saturating_add(1);
-            position_of_channel.push(rel as u16).map_err(|_| ArrayError::Config)?;
+            position_of_channel
+                .push(rel as u16)
+                .map_err(|_| ArrayError::Config)?;
         }
         let elements = count_at.iter().filter(|&&c| c > 0).count();
-        Ok(Self { position_of_channel, count_at, elements })
+        Ok(Self {
+            position_of_channel,
+            count_at,
+            elements,
+        })
     }
 
     /// Positions from the first to the last element, gaps included.
@@ -124,10 +139,18 @@ impl VirtualArray {
     /// shorter than `span()`.
     pub fn gather(&self, channel_values: &[CQ15], out: &mut [CQ15]) -> Result<(), ArrayError> {
         if channel_values.len() != self.channels() {
-            return Err(ArrayError::Buffer { what: "channel values", expected: self.channels(), got: channel_values.len() });
+            return Err(ArrayError::Buffer {
+                what: "channel values",
+                expected: self.channels(),
+                got: channel_values.len(),
+            });
         }
         if out.len() < self.span() {
-            return Err(ArrayError::Buffer { what: "element buffer", expected: self.span(), got: out.len() });
+            return Err(ArrayError::Buffer {
+                what: "element buffer",
+                expected: self.span(),
+                got: out.len(),
+            });
         }
         let mut sums: Vec<Complex<i32>, { crate::fft::MAX_LEN }> = Vec::new();
         let _ = sums.resize(self.span(), Complex::new(0, 0));
@@ -165,7 +188,9 @@ mod tests {
         assert_eq!(a.span(), 12);
         assert_eq!(a.elements(), 10);
         assert!(!a.occupied(6) && a.occupied(8));
-        let vals: std::vec::Vec<CQ15> = (0..12).map(|ch| CQ15::from_raw(100 * ch as i16, -(ch as i16))).collect();
+        let vals: std::vec::Vec<CQ15> = (0..12)
+            .map(|ch| CQ15::from_raw(100 * ch as i16, -(ch as i16)))
+            .collect();
         let mut out = [CQ15::default(); 16];
         a.gather(&vals, &mut out).unwrap();
         assert_eq!(out[0], vals[0]);

@@ -74,7 +74,11 @@ impl fmt::Display for ConfigError {
                 crate::fft::MAX_LEN
             ),
             Self::ChirpsPerTx(n) => {
-                write!(f, "`chirps_per_tx` = {n}: use 1 to {} loops per frame", crate::fft::MAX_LEN)
+                write!(
+                    f,
+                    "`chirps_per_tx` = {n}: use 1 to {} loops per frame",
+                    crate::fft::MAX_LEN
+                )
             }
             Self::Empty(field) => write!(f, "`{field}` must list at least one entry"),
             Self::TxOrder { slot, tx } => write!(
@@ -180,7 +184,10 @@ impl RadarConfig {
 
     /// Metres per bin of a range FFT of `fft_len` points: c·fs / (2·S·fft_len).
     pub fn range_bin_size(&self, fft_len: usize) -> Meters {
-        Meters((SPEED_OF_LIGHT * self.sample_rate_hz / (2.0 * self.slope_hz_per_s * fft_len as f64)) as f32)
+        Meters(
+            (SPEED_OF_LIGHT * self.sample_rate_hz / (2.0 * self.slope_hz_per_s * fft_len as f64))
+                as f32,
+        )
     }
 
     /// Range of a (fractional) bin of a range FFT of `fft_len` points.
@@ -265,7 +272,10 @@ pub(crate) mod tests {
     fn bad_fields_are_named() {
         let mut c = example();
         c.slope_hz_per_s = f64::NAN;
-        assert_eq!(c.validate(), Err(ConfigError::NotPositive("slope_hz_per_s")));
+        assert_eq!(
+            c.validate(),
+            Err(ConfigError::NotPositive("slope_hz_per_s"))
+        );
         let mut c = example();
         c.adc_samples = 255;
         assert_eq!(c.validate(), Err(ConfigError::AdcSamples(255)));

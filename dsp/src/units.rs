@@ -33,5 +33,9 @@ pub struct AzimuthBin(pub f32);
 
 /// Maps FFT index `k` of an `n`-point FFT to its signed bin in `-n/2..n/2`.
 pub const fn signed_bin(k: usize, n: usize) -> i32 {
-    if k < n / 2 { k as i32 } else { k as i32 - n as i32 }
+    if k < n / 2 {
+        k as i32
+    } else {
+        k as i32 - n as i32
+    }
 }

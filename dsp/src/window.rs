@@ -101,7 +101,8 @@ mod tests {
             let q = |v: f64| (v * 32768.0).round().min(32767.0);
             assert_eq!(hann[i].0 as f64, q(0.5 - 0.5 * libm::cos(x)));
             assert_eq!(hamming[i].0 as f64, q(0.54 - 0.46 * libm::cos(x)));
-            let b = 0.35875 - 0.48829 * libm::cos(x) + 0.14128 * libm::cos(2.0 * x) - 0.01168 * libm::cos(3.0 * x);
+            let b = 0.35875 - 0.48829 * libm::cos(x) + 0.14128 * libm::cos(2.0 * x)
+                - 0.01168 * libm::cos(3.0 * x);
             assert!((bh[i].0 as f64 - q(b)).abs() <= 1.0);
         }
         assert_eq!(hann[0].0, 0);

@@ -19,7 +19,9 @@ impl Noise {
 
 fn reference(x: &[Complex64]) -> Vec<Complex64> {
     let mut y = x.to_vec();
-    FftPlanner::<f64>::new().plan_fft_forward(y.len()).process(&mut y);
+    FftPlanner::<f64>::new()
+        .plan_fft_forward(y.len())
+        .process(&mut y);
     y
 }
 
@@ -35,24 +37,44 @@ fn sqnr_db(reference: &[Complex64], ours: impl Iterator<Item = Complex64>) -> f6
 fn q15_sqnr(n: usize, dbfs: f64, seed: u64) -> f64 {
     let amp = 10f64.powf(dbfs / 20.0);
     let mut noise = Noise(seed);
-    let mut buf: Vec<CQ15> =
-        (0..n).map(|_| CQ15::from_f32((amp * noise.next()) as f32, (amp * noise.next()) as f32)).collect();
-    let input: Vec<Complex64> = buf.iter().map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64)).collect();
+    let mut buf: Vec<CQ15> = (0..n)
+        .map(|_| CQ15::from_f32((amp * noise.next()) as f32, (amp * noise.next()) as f32))
+        .collect();
+    let input: Vec<Complex64> = buf
+        .iter()
+        .map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64))
+        .collect();
     let exp = cfft_q15(&mut buf).unwrap();
     let scale = exp.scale_f64();
-    sqnr_db(&reference(&input), buf.iter().map(|z| Complex64::new(z.re.to_f32() as f64 * scale, z.im.to_f32() as f64 * scale)))
+    sqnr_db(
+        &reference(&input),
+        buf.iter()
+            .map(|z| Complex64::new(z.re.to_f32() as f64 * scale, z.im.to_f32() as f64 * scale)),
+    )
 }
 
 fn q31_sqnr(n: usize, dbfs: f64, seed: u64) -> f64 {
     let amp = 10f64.powf(dbfs / 20.0);
     let mut noise = Noise(seed);
     let mut buf: Vec<CQ31> = (0..n)
-        .map(|_| Complex::new(dsp::fixed::Q31::from_f64(amp * noise.next()), dsp::fixed::Q31::from_f64(amp * noise.next())))
+        .map(|_| {
+            Complex::new(
+                dsp::fixed::Q31::from_f64(amp * noise.next()),
+                dsp::fixed::Q31::from_f64(amp * noise.next()),
+            )
+        })
         .collect();
-    let input: Vec<Complex64> = buf.iter().map(|z| Complex64::new(z.re.to_f64(), z.im.to_f64())).collect();
+    let input: Vec<Complex64> = buf
+        .iter()
+        .map(|z| Complex64::new(z.re.to_f64(), z.im.to_f64()))
+        .collect();
     let exp = cfft_q31(&mut buf).unwrap();
     let scale = exp.scale_f64();
-    sqnr_db(&reference(&input), buf.iter().map(|z| Complex64::new(z.re.to_f64() * scale, z.im.to_f64() * scale)))
+    sqnr_db(
+        &reference(&input),
+        buf.iter()
+            .map(|z| Complex64::new(z.re.to_f64() * scale, z.im.to_f64() * scale)),
+    )
 }
 
 const SIZES: [usize; 8] = [16, 32, 64, 128, 256, 512, 1024, 2048];
@@ -69,7 +91,10 @@ fn q15_meets_cmsis_m7_at_minus_12_dbfs() {
     for (n, cmsis) in [(64, 59.9), (256, 54.8), (1024, 48.2)] {
         let got = median((1..=5).map(|s| q15_sqnr(n, -12.0, s)).collect());
         println!("q15 n={n} -12 dBFS: {got:.1} dB (CMSIS M7 {cmsis})");
-        assert!(got >= cmsis, "Q15 SQNR {got:.1} dB < CMSIS {cmsis} dB at n={n}");
+        assert!(
+            got >= cmsis,
+            "Q15 SQNR {got:.1} dB < CMSIS {cmsis} dB at n={n}"
+        );
     }
 }
 
@@ -78,7 +103,10 @@ fn q15_keeps_weak_signals_at_minus_40_dbfs() {
     for n in SIZES {
         let got = median((1..=5).map(|s| q15_sqnr(n, -40.0, s)).collect());
         println!("q15 n={n} -40 dBFS: {got:.1} dB");
-        assert!(got >= 45.0, "Q15 SQNR {got:.1} dB < 45 dB at n={n}, -40 dBFS");
+        assert!(
+            got >= 45.0,
+            "Q15 SQNR {got:.1} dB < 45 dB at n={n}, -40 dBFS"
+        );
     }
 }
 
@@ -102,14 +130,34 @@ fn full_scale_input_never_overflows() {
             let mut buf: Vec<CQ15> = (0..n)
                 .map(|i| match pattern {
                     0 => CQ15::from_raw(i16::MAX, i16::MIN),
-                    1 => if i % 2 == 0 { CQ15::from_raw(i16::MIN, i16::MIN) } else { CQ15::from_raw(i16::MAX, i16::MAX) },
-                    _ => CQ15::from_raw(if i % 3 == 0 { i16::MIN } else { i16::MAX }, if i % 5 == 0 { i16::MAX } else { i16::MIN }),
+                    1 => {
+                        if i % 2 == 0 {
+                            CQ15::from_raw(i16::MIN, i16::MIN)
+                        } else {
+                            CQ15::from_raw(i16::MAX, i16::MAX)
+                        }
+                    }
+                    _ => CQ15::from_raw(
+                        if i % 3 == 0 { i16::MIN } else { i16::MAX },
+                        if i % 5 == 0 { i16::MAX } else { i16::MIN },
+                    ),
                 })
                 .collect();
-            let input: Vec<Complex64> = buf.iter().map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64)).collect();
+            let input: Vec<Complex64> = buf
+                .iter()
+                .map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64))
+                .collect();
             let scale = cfft_q15(&mut buf).unwrap().scale_f64();
-            let got = sqnr_db(&reference(&input), buf.iter().map(|z| Complex64::new(z.re.to_f32() as f64 * scale, z.im.to_f32() as f64 * scale)));
-            assert!(got > 50.0, "pattern {pattern} n={n}: {got:.1} dB (overflow?)");
+            let got = sqnr_db(
+                &reference(&input),
+                buf.iter().map(|z| {
+                    Complex64::new(z.re.to_f32() as f64 * scale, z.im.to_f32() as f64 * scale)
+                }),
+            );
+            assert!(
+                got > 50.0,
+                "pattern {pattern} n={n}: {got:.1} dB (overflow?)"
+            );
         }
     }
 }
@@ -118,10 +166,18 @@ fn full_scale_input_never_overflows() {
 fn f32_path_matches_reference() {
     for n in SIZES {
         let mut noise = Noise(9);
-        let input: Vec<Complex64> = (0..n).map(|_| Complex64::new(noise.next() as f32 as f64, noise.next() as f32 as f64)).collect();
-        let mut buf: Vec<Complex32> = input.iter().map(|z| Complex32::new(z.re as f32, z.im as f32)).collect();
+        let input: Vec<Complex64> = (0..n)
+            .map(|_| Complex64::new(noise.next() as f32 as f64, noise.next() as f32 as f64))
+            .collect();
+        let mut buf: Vec<Complex32> = input
+            .iter()
+            .map(|z| Complex32::new(z.re as f32, z.im as f32))
+            .collect();
         cfft_f32(&mut buf).unwrap();
-        let got = sqnr_db(&reference(&input), buf.iter().map(|z| Complex64::new(z.re as f64, z.im as f64)));
+        let got = sqnr_db(
+            &reference(&input),
+            buf.iter().map(|z| Complex64::new(z.re as f64, z.im as f64)),
+        );
         assert!(got > 110.0, "microfft n={n}: {got:.1} dB");
     }
 }

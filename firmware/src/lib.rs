@@ -1,1 +1,14 @@
+//! The Metamoran edge module's firmware logic, portable so that it also runs in host tests.
+//!
+//! * [`selftest`]: deterministic DSP workloads whose output hashes the host recomputes, proving
+//!   the module computes the same bits as x86;
+//! * [`workload`]: the inputs of those workloads and of the instruction-count benchmarks;
+//! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
+//!   panic handlers.
+#![no_std]
+#![deny(missing_docs)]
 
+#[cfg(target_os = "none")]
+pub mod board;
+pub mod selftest;
+pub mod workload;

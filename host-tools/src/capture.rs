@@ -17,7 +17,10 @@ use std::path::Path;
 /// [`InputError`] naming the first bad field.
 pub fn parse_radar_config(path: &Path, text: &str) -> Result<RadarConfig, InputError> {
     let table = parse_toml(path, text)?;
-    parse_radar(&Fields::root(path, &table).table("radar")?, FramesField::Optional)
+    parse_radar(
+        &Fields::root(path, &table).table("radar")?,
+        FramesField::Optional,
+    )
 }
 
 /// Reads a radar config TOML file.

@@ -46,17 +46,27 @@ pub enum InputError {
 impl InputError {
     /// An I/O error on `path`.
     pub fn io(path: &Path, source: std::io::Error) -> Self {
-        Self::Io { path: path.to_owned(), source }
+        Self::Io {
+            path: path.to_owned(),
+            source,
+        }
     }
 
     /// A bad field of `path`.
     pub fn field(path: &Path, field: impl Into<String>, problem: impl Into<String>) -> Self {
-        Self::Field { path: path.to_owned(), field: field.into(), problem: problem.into() }
+        Self::Field {
+            path: path.to_owned(),
+            field: field.into(),
+            problem: problem.into(),
+        }
     }
 
     /// A problem with the whole of `path`.
     pub fn file(path: &Path, problem: impl Into<String>) -> Self {
-        Self::File { path: path.to_owned(), problem: problem.into() }
+        Self::File {
+            path: path.to_owned(),
+            problem: problem.into(),
+        }
     }
 }
 

@@ -14,12 +14,20 @@ pub struct Fields<'a> {
 impl<'a> Fields<'a> {
     /// The top-level table of `path`.
     pub fn root(path: &'a Path, table: &'a Table) -> Self {
-        Self { path, table, prefix: String::new() }
+        Self {
+            path,
+            table,
+            prefix: String::new(),
+        }
     }
 
     /// The dotted name of `key` in this table.
     pub fn name(&self, key: &str) -> String {
-        if self.prefix.is_empty() { key.to_owned() } else { format!("{}.{key}", self.prefix) }
+        if self.prefix.is_empty() {
+            key.to_owned()
+        } else {
+            format!("{}.{key}", self.prefix)
+        }
     }
 
     /// An error about `key`.
@@ -33,13 +41,19 @@ impl<'a> Fields<'a> {
     }
 
     fn get(&self, key: &str, expected: &str) -> Result<&'a Value, InputError> {
-        self.table.get(key).ok_or_else(|| self.error(key, format!("missing; add it ({expected})")))
+        self.table
+            .get(key)
+            .ok_or_else(|| self.error(key, format!("missing; add it ({expected})")))
     }
 
     /// A sub-table.
     pub fn table(&self, key: &str) -> Result<Fields<'a>, InputError> {
         match self.get(key, "a table")? {
-            Value::Table(t) => Ok(Fields { path: self.path, table: t, prefix: self.name(key) }),
+            Value::Table(t) => Ok(Fields {
+                path: self.path,
+                table: t,
+                prefix: self.name(key),
+            }),
             v => Err(self.error(key, format!("expected a table, found {}", v.type_str()))),
         }
     }
@@ -59,13 +73,21 @@ impl<'a> Fields<'a> {
             Value::Integer(i) => *i as f64,
             v => return Err(self.error(key, format!("expected a number, found {}", v.type_str()))),
         };
-        if v.is_finite() { Ok(v) } else { Err(self.error(key, format!("{v} is not a finite number"))) }
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error(key, format!("{v} is not a finite number")))
+        }
     }
 
     /// A positive finite number.
     pub fn positive(&self, key: &str) -> Result<f64, InputError> {
         let v = self.f64(key)?;
-        if v > 0.0 { Ok(v) } else { Err(self.error(key, format!("{v} must be greater than zero"))) }
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.error(key, format!("{v} must be greater than zero")))
+        }
     }
 
     /// An integer in `min..=max`.
@@ -100,9 +122,15 @@ impl<'a> Fields<'a> {
             .enumerate()
             .map(|(i, v)| {
                 if v.fract() != 0.0 {
-                    Err(self.error(&format!("{key}[{i}]"), format!("{v} must be a whole number")))
+                    Err(self.error(
+                        &format!("{key}[{i}]"),
+                        format!("{v} must be a whole number"),
+                    ))
                 } else if !(min as f64..=max as f64).contains(&v) {
-                    Err(self.error(&format!("{key}[{i}]"), format!("{v} is outside {min}..={max}")))
+                    Err(self.error(
+                        &format!("{key}[{i}]"),
+                        format!("{v} is outside {min}..={max}"),
+                    ))
                 } else {
                     Ok(v as i64)
                 }
@@ -113,5 +141,9 @@ impl<'a> Fields<'a> {
 
 /// Parses `text` (the contents of `path`) as a TOML table.
 pub fn parse_toml(path: &Path, text: &str) -> Result<Table, InputError> {
-    text.parse::<Table>().map_err(|e| InputError::Syntax { path: path.to_owned(), format: "TOML", message: e.to_string() })
+    text.parse::<Table>().map_err(|e| InputError::Syntax {
+        path: path.to_owned(),
+        format: "TOML",
+        message: e.to_string(),
+    })
 }

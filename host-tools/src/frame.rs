@@ -60,10 +60,21 @@ impl FrameProcessor {
             window::fill(kind, &mut w);
             w
         };
-        let (nr, nd, loops) = (config.range_fft_len(), config.doppler_fft_len(), config.chirps_per_tx as usize);
+        let (nr, nd, loops) = (
+            config.range_fft_len(),
+            config.doppler_fft_len(),
+            config.chirps_per_tx as usize,
+        );
         let rows = config.channels() * loops;
-        let cube = RangeCube::new(vec![CQ15::default(); rows * nr], vec![Exponent::default(); rows], config.slots(), config.rx_count(), loops, nr)
-            .map_err(|e| e.to_string())?;
+        let cube = RangeCube::new(
+            vec![CQ15::default(); rows * nr],
+            vec![Exponent::default(); rows],
+            config.slots(),
+            config.rx_count(),
+            loops,
+            nr,
+        )
+        .map_err(|e| e.to_string())?;
         Ok(Self {
             config: config.clone(),
             options,
@@ -102,15 +113,26 @@ impl FrameProcessor {
     /// A message if the frame has the wrong size.
     pub fn process(&mut self, frame: &[CQ15]) -> Result<FrameSpectra, String> {
         let c = &self.config;
-        let (n, rx, nr, nd) = (c.adc_samples as usize, c.rx_count(), c.range_fft_len(), c.doppler_fft_len());
+        let (n, rx, nr, nd) = (
+            c.adc_samples as usize,
+            c.rx_count(),
+            c.range_fft_len(),
+            c.doppler_fft_len(),
+        );
         if frame.len() != c.samples_per_frame() {
-            return Err(format!("frame has {} samples; the config needs {}", frame.len(), c.samples_per_frame()));
+            return Err(format!(
+                "frame has {} samples; the config needs {}",
+                frame.len(),
+                c.samples_per_frame()
+            ));
         }
         let window = Self::window_of(self.options.range_window, &self.range_window);
         let processor = RangeProcessor::new(n, nr, window).map_err(|e| e.to_string())?;
         for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
             for (r, samples) in rows.chunks_exact(n).enumerate() {
-                self.cube.push_chirp(&processor, chirp, r, samples).map_err(|e| e.to_string())?;
+                self.cube
+                    .push_chirp(&processor, chirp, r, samples)
+                    .map_err(|e| e.to_string())?;
             }
         }
         let mut range_profile = vec![0f32; nr];
@@ -124,10 +146,20 @@ impl FrameProcessor {
         range_profile.iter_mut().for_each(|p| *p /= rows as f32);
         let mut range_doppler = vec![0f32; nr * nd];
         let mut scratch = std::mem::take(&mut self.scratch);
-        let result = range_doppler_map(&self.cube, &self.doppler_options(self.options.remove_static), &mut scratch, &mut range_doppler);
+        let result = range_doppler_map(
+            &self.cube,
+            &self.doppler_options(self.options.remove_static),
+            &mut scratch,
+            &mut range_doppler,
+        );
         self.scratch = scratch;
         result.map_err(|e| e.to_string())?;
-        Ok(FrameSpectra { range_profile, range_doppler, range_bins: nr, doppler_len: nd })
+        Ok(FrameSpectra {
+            range_profile,
+            range_doppler,
+            range_bins: nr,
+            doppler_len: nd,
+        })
     }
 
     /// Azimuth of the strongest direction at range bin `bin`, Doppler index `doppler` (natural
@@ -137,13 +169,24 @@ impl FrameProcessor {
     ///
     /// # Errors
     /// A message if an index is out of range.
-    pub fn azimuth_at(&mut self, bin: usize, doppler: usize, remove_static: bool) -> Result<Option<Radians>, String> {
+    pub fn azimuth_at(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<Option<Radians>, String> {
         let channels = self.array.channels();
         let mut values = Vec::with_capacity(channels);
         let mut exps = Vec::with_capacity(channels);
         let mut scratch = std::mem::take(&mut self.scratch);
         for ch in 0..channels {
-            let r = doppler_column(&self.cube, ch, bin, &self.doppler_options(remove_static), &mut scratch);
+            let r = doppler_column(
+                &self.cube,
+                ch,
+                bin,
+                &self.doppler_options(remove_static),
+                &mut scratch,
+            );
             let exp = match r {
                 Ok(e) => e,
                 Err(e) => {
@@ -151,7 +194,11 @@ impl FrameProcessor {
                     return Err(e.to_string());
                 }
             };
-            values.push(*scratch.get(doppler).ok_or_else(|| format!("Doppler index {doppler} out of range"))?);
+            values.push(
+                *scratch
+                    .get(doppler)
+                    .ok_or_else(|| format!("Doppler index {doppler} out of range"))?,
+            );
             exps.push(exp.0);
         }
         self.scratch = scratch;
@@ -165,7 +212,9 @@ impl FrameProcessor {
         let mut spec = vec![CQ15::default(); na];
         azimuth_spectrum(&self.array, &aligned, &mut spec).map_err(|e| e.to_string())?;
         let mag: Vec<f32> = spec.iter().map(|&z| magnitude(z, Exponent(0))).collect();
-        let k = (0..na).max_by(|&a, &b| mag[a].total_cmp(&mag[b])).unwrap_or(0);
+        let k = (0..na)
+            .max_by(|&a, &b| mag[a].total_cmp(&mag[b]))
+            .unwrap_or(0);
         let db = |i: usize| 20.0 * (mag[i % na].max(1e-30)).log10();
         let offset = quadratic_offset(db(k + na - 1), db(k), db(k + 1));
         let bin = signed_bin(k, na) as f32 + offset;

@@ -9,6 +9,7 @@ pub mod error;
 pub mod fields;
 pub mod frame;
 pub mod oracle;
+pub mod qemu;
 pub mod summary;
 
 /// Where the shared data folder (`shared/`, beside the repository) is: `$METAMORAN_SHARED` or
@@ -16,5 +17,7 @@ pub mod summary;
 pub fn shared_dir() -> std::path::PathBuf {
     std::env::var_os("METAMORAN_SHARED")
         .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared"))
+        .unwrap_or_else(|| {
+            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared")
+        })
 }

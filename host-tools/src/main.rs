@@ -38,7 +38,9 @@ enum Command {
     /// Summarize a scene bundle or a bare DCA1000 capture: range-profile peaks and moving targets.
     ///
     /// Example: metamoran summarize capture.bin --config radar.toml
-    #[command(after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json")]
+    #[command(
+        after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json"
+    )]
     Summarize {
         /// A bundle folder (with scene.toml) or a DCA1000 .bin file.
         path: PathBuf,
@@ -78,6 +80,16 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "256,1024")]
         sizes: Vec<usize>,
     },
+    /// FFT instruction counts on the Cortex-M7 under QEMU (-icount), vs CMSIS-DSP's published counts.
+    #[command(
+        name = "fft-m7",
+        after_help = "Example:\n  metamoran bench fft-m7 --json"
+    )]
+    FftM7 {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 /// The built-in demo capture: OpenRadar's two-target Doppler example, with its config.
@@ -86,11 +98,19 @@ const DEMO_CONFIG: &str = include_str!("../../tests/data/real/openradar_doppler_
 
 /// Opens a bare capture (with `config`) or the radar file of a bundle folder (checking the bundle).
 fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<RadarFile, String> {
+    if !path.exists() {
+        return Err(format!(
+            "{}: no such file or folder; give a bundle folder or a DCA1000 .bin",
+            path.display()
+        ));
+    }
     match config {
         Some(cfg) => open_bare(path, cfg, order).map_err(|e| e.to_string()),
         None if path.is_dir() => {
-            let bundle = Bundle::open(path, OpenOptions { iq_order: order }).map_err(|e| e.to_string())?;
-            RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order).map_err(|e| e.to_string())
+            let bundle =
+                Bundle::open(path, OpenOptions { iq_order: order }).map_err(|e| e.to_string())?;
+            RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order)
+                .map_err(|e| e.to_string())
         }
         None => Err(format!(
             "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml)",
@@ -101,7 +121,10 @@ fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<Ra
 
 fn print<T: serde::Serialize + std::fmt::Display>(value: &T, json: bool) -> Result<(), String> {
     if json {
-        println!("{}", serde_json::to_string_pretty(value).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(value).map_err(|e| e.to_string())?
+        );
     } else {
         print!("{value}");
     }
@@ -110,7 +133,12 @@ fn print<T: serde::Serialize + std::fmt::Display>(value: &T, json: bool) -> Resu
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Summarize { path, config, iq_order, json } => {
+        Command::Summarize {
+            path,
+            config,
+            iq_order,
+            json,
+        } => {
             let mut file = open_capture(&path, config.as_deref(), iq_order.into())?;
             print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
         }
@@ -122,19 +150,28 @@ fn run(cli: Cli) -> Result<(), String> {
                     capture.display()
                 ));
             }
-            let config = parse_radar_config(Path::new("built-in demo config"), DEMO_CONFIG).map_err(|e| e.to_string())?;
-            let mut file = RadarFile::open(&capture, config, IqOrder::Iiqq).map_err(|e| e.to_string())?;
+            let config = parse_radar_config(Path::new("built-in demo config"), DEMO_CONFIG)
+                .map_err(|e| e.to_string())?;
+            let mut file =
+                RadarFile::open(&capture, config, IqOrder::Iiqq).map_err(|e| e.to_string())?;
             if !json {
-                println!("Demo: OpenRadar doppler_example_1 (real IWR1642-class capture, 2 TX × 4 RX, 128 loops)\n");
+                println!(
+                    "Demo: OpenRadar doppler_example_1 (real IWR1642-class capture, 2 TX × 4 RX, 128 loops)\n"
+                );
             }
             print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
         }
-        Command::Bench { what: BenchCommand::Fft { json, sizes } } => {
+        Command::Bench {
+            what: BenchCommand::Fft { json, sizes },
+        } => {
             if let Some(&bad) = sizes.iter().find(|&&n| !dsp::fft::is_supported_len(n)) {
                 return Err(format!("--sizes {bad}: use powers of two from 16 to 2048"));
             }
             print(&host_tools::bench::fft::run(&sizes, true), json)
         }
+        Command::Bench {
+            what: BenchCommand::FftM7 { json },
+        } => print(&host_tools::bench::m7::run()?, json),
     }
 }
 

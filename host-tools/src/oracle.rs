@@ -41,7 +41,8 @@ pub struct CmsisRequest {
 /// # Errors
 /// A message if the venv, Python or `cmsisdsp` is missing or fails.
 pub fn cmsis_fft(requests: &[CmsisRequest]) -> Result<Vec<Vec<i64>>, String> {
-    let py = venv_python().ok_or("no test venv: run scripts/test (or set METAMORAN_VENV) to install cmsisdsp")?;
+    let py = venv_python()
+        .ok_or("no test venv: run scripts/test (or set METAMORAN_VENV) to install cmsisdsp")?;
     let body: Vec<serde_json::Value> = requests
         .iter()
         .map(|r| {
@@ -60,12 +61,21 @@ pub fn cmsis_fft(requests: &[CmsisRequest]) -> Result<Vec<Vec<i64>>, String> {
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", py.display()))?;
     let input = serde_json::to_vec(&body).map_err(|e| e.to_string())?;
-    child.stdin.take().ok_or("no stdin")?.write_all(&input).map_err(|e| e.to_string())?;
+    child
+        .stdin
+        .take()
+        .ok_or("no stdin")?
+        .write_all(&input)
+        .map_err(|e| e.to_string())?;
     let out = child.wait_with_output().map_err(|e| e.to_string())?;
     if !out.status.success() {
-        return Err(format!("CMSIS oracle failed: {}", String::from_utf8_lossy(&out.stderr)));
+        return Err(format!(
+            "CMSIS oracle failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
     }
-    let parsed: Vec<serde_json::Value> = serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
+    let parsed: Vec<serde_json::Value> =
+        serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
     parsed
         .iter()
         .map(|v| {
@@ -73,7 +83,10 @@ pub fn cmsis_fft(requests: &[CmsisRequest]) -> Result<Vec<Vec<i64>>, String> {
                 .as_array()
                 .ok_or("oracle answer without data")?
                 .iter()
-                .map(|x| x.as_i64().ok_or_else(|| "non-integer in oracle answer".to_owned()))
+                .map(|x| {
+                    x.as_i64()
+                        .ok_or_else(|| "non-integer in oracle answer".to_owned())
+                })
                 .collect()
         })
         .collect()

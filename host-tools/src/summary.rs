@@ -113,22 +113,34 @@ fn db(x: f32) -> f32 {
 /// [`InputError`] if a frame cannot be read or processed.
 pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
     let config = file.config().clone();
-    let options = FrameOptions { range_window: WindowKind::Hann, doppler_window: WindowKind::Hann, remove_static: true };
+    let options = FrameOptions {
+        range_window: WindowKind::Hann,
+        doppler_window: WindowKind::Hann,
+        remove_static: true,
+    };
     let to_err = |e: String| InputError::file(file.path(), e);
     let mut proc = FrameProcessor::new(&config, options).map_err(to_err)?;
     let mut samples = Vec::new();
     let mut frames = Vec::new();
     for f in 0..config.frames {
         file.read_frame(f, &mut samples)?;
-        let spectra = proc.process(&samples).map_err(|e| InputError::file(file.path(), e))?;
+        let spectra = proc
+            .process(&samples)
+            .map_err(|e| InputError::file(file.path(), e))?;
         let (nr, nd) = (spectra.range_bins, spectra.doppler_len);
         let profile = &spectra.range_profile;
         let mut peaks: Vec<usize> = (0..nr).filter(|&k| is_local_max(profile, k)).collect();
         peaks.sort_by(|&a, &b| profile[b].total_cmp(&profile[a]));
         let mut range_peaks = Vec::new();
         for &k in peaks.iter().take(TOP) {
-            let off = if k > 0 && k + 1 < nr { quadratic_offset(db(profile[k - 1]), db(profile[k]), db(profile[k + 1])) } else { 0.0 };
-            let az = proc.azimuth_at(k, 0, false).map_err(|e| InputError::file(file.path(), e))?;
+            let off = if k > 0 && k + 1 < nr {
+                quadratic_offset(db(profile[k - 1]), db(profile[k]), db(profile[k + 1]))
+            } else {
+                0.0
+            };
+            let az = proc
+                .azimuth_at(k, 0, false)
+                .map_err(|e| InputError::file(file.path(), e))?;
             range_peaks.push(RangePeak {
                 bin: k,
                 range_m: config.bin_to_range(RangeBin(k as f32 + off), nr).0,
@@ -137,11 +149,26 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             });
         }
         let map = &spectra.range_doppler;
-        let axis = Cfar { guard: 2, train: 8, scale: 4.0, kind: CfarKind::OrderedStatistic { rank: 0.75 }, edge: Edge::Truncate };
-        let cfar = Cfar2d { rows: axis, cols: Cfar { guard: 1, train: 4, edge: Edge::Wrap, ..axis } };
+        let axis = Cfar {
+            guard: 2,
+            train: 8,
+            scale: 4.0,
+            kind: CfarKind::OrderedStatistic { rank: 0.75 },
+            edge: Edge::Truncate,
+        };
+        let cfar = Cfar2d {
+            rows: axis,
+            cols: Cfar {
+                guard: 1,
+                train: 4,
+                edge: Edge::Wrap,
+                ..axis
+            },
+        };
         let mut hits = Vec::new();
         if nd > 1 {
-            cfar.detect(map, nr, nd, |d| hits.push(d)).map_err(|e| InputError::file(file.path(), e.to_string()))?;
+            cfar.detect(map, nr, nd, |d| hits.push(d))
+                .map_err(|e| InputError::file(file.path(), e.to_string()))?;
         }
         let is_peak = |i: usize| {
             let (r, d) = (i / nd, i % nd);
@@ -155,22 +182,38 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
         for h in hits.iter().take(TOP) {
             let (r, d) = (h.index / nd, h.index % nd);
             let at = |rr: usize, dd: usize| db(map[rr * nd + dd % nd]);
-            let r_off = if r > 0 && r + 1 < nr { quadratic_offset(at(r - 1, d), at(r, d), at(r + 1, d)) } else { 0.0 };
+            let r_off = if r > 0 && r + 1 < nr {
+                quadratic_offset(at(r - 1, d), at(r, d), at(r + 1, d))
+            } else {
+                0.0
+            };
             let d_off = quadratic_offset(at(r, d + nd - 1), at(r, d), at(r, d + 1));
             let doppler_bin = signed_bin(d, nd);
-            let az = proc.azimuth_at(r, d, true).map_err(|e| InputError::file(file.path(), e))?;
+            let az = proc
+                .azimuth_at(r, d, true)
+                .map_err(|e| InputError::file(file.path(), e))?;
             moving_targets.push(MovingTarget {
                 range_bin: r,
                 doppler_bin,
                 range_m: config.bin_to_range(RangeBin(r as f32 + r_off), nr).0,
-                velocity_mps: config.doppler_to_velocity(DopplerBin(doppler_bin as f32 + d_off), nd).0,
+                velocity_mps: config
+                    .doppler_to_velocity(DopplerBin(doppler_bin as f32 + d_off), nd)
+                    .0,
                 azimuth_deg: az.map(|a| a.to_degrees()),
                 snr_db: db(h.value / h.threshold) + db(axis.scale),
             });
         }
-        frames.push(FrameSummary { frame: f, range_peaks, moving_targets });
+        frames.push(FrameSummary {
+            frame: f,
+            range_peaks,
+            moving_targets,
+        });
     }
-    Ok(Summary { source: file.path().display().to_string(), config: config_summary(&config, proc.array().elements()), frames })
+    Ok(Summary {
+        source: file.path().display().to_string(),
+        config: config_summary(&config, proc.array().elements()),
+        frames,
+    })
 }
 
 impl std::fmt::Display for Summary {
@@ -180,28 +223,61 @@ impl std::fmt::Display for Summary {
         writeln!(
             f,
             "  {} frame(s); range {:.3} m/bin to {:.1} m ({}-pt FFT); velocity {:.3} m/s/bin to ±{:.2} m/s ({}-pt); {} virtual channels at {} positions",
-            c.frames, c.range_resolution_m, c.max_range_m, c.range_fft_len, c.velocity_resolution_mps, c.max_velocity_mps,
-            c.doppler_fft_len, c.virtual_channels, c.virtual_elements
+            c.frames,
+            c.range_resolution_m,
+            c.max_range_m,
+            c.range_fft_len,
+            c.velocity_resolution_mps,
+            c.max_velocity_mps,
+            c.doppler_fft_len,
+            c.virtual_channels,
+            c.virtual_elements
         )?;
         let deg = |a: Option<f32>| a.map_or("    —".to_owned(), |a| format!("{a:+6.1}°"));
         for fr in &self.frames {
             writeln!(f, "frame {}", fr.frame)?;
-            writeln!(f, "  range-profile peaks (Hann; bins 0–1 are near-DC leakage):")?;
-            writeln!(f, "    {:>5} {:>9} {:>9} {:>8}", "bin", "range m", "dBFS", "azimuth")?;
+            writeln!(
+                f,
+                "  range-profile peaks (Hann; bins 0–1 are near-DC leakage):"
+            )?;
+            writeln!(
+                f,
+                "    {:>5} {:>9} {:>9} {:>8}",
+                "bin", "range m", "dBFS", "azimuth"
+            )?;
             for p in &fr.range_peaks {
-                writeln!(f, "    {:>5} {:>9.3} {:>9.1} {:>8}", p.bin, p.range_m, p.level_dbfs, deg(p.azimuth_deg))?;
+                writeln!(
+                    f,
+                    "    {:>5} {:>9.3} {:>9.1} {:>8}",
+                    p.bin,
+                    p.range_m,
+                    p.level_dbfs,
+                    deg(p.azimuth_deg)
+                )?;
             }
-            writeln!(f, "  moving targets (static clutter removed, OS-CFAR on range–Doppler):")?;
+            writeln!(
+                f,
+                "  moving targets (static clutter removed, OS-CFAR on range–Doppler):"
+            )?;
             if fr.moving_targets.is_empty() {
                 writeln!(f, "    none")?;
             } else {
-                writeln!(f, "    {:>5} {:>7} {:>9} {:>9} {:>8} {:>7}", "bin", "doppler", "range m", "v m/s", "azimuth", "SNR dB")?;
+                writeln!(
+                    f,
+                    "    {:>5} {:>7} {:>9} {:>9} {:>8} {:>7}",
+                    "bin", "doppler", "range m", "v m/s", "azimuth", "SNR dB"
+                )?;
             }
             for t in &fr.moving_targets {
                 writeln!(
                     f,
                     "    {:>5} {:>+7} {:>9.3} {:>+9.3} {:>8} {:>7.1}",
-                    t.range_bin, t.doppler_bin, t.range_m, t.velocity_mps, deg(t.azimuth_deg), t.snr_db
+                    t.range_bin,
+                    t.doppler_bin,
+                    t.range_m,
+                    t.velocity_mps,
+                    deg(t.azimuth_deg),
+                    t.snr_db
                 )?;
             }
         }

@@ -10,9 +10,17 @@ use crate::fixed::CQ15;
 ///
 /// # Errors
 /// [`ArrayError`] on size mismatches, including an unsupported FFT length.
-pub fn azimuth_spectrum(array: &VirtualArray, channel_values: &[CQ15], out: &mut [CQ15]) -> Result<Exponent, ArrayError> {
+pub fn azimuth_spectrum(
+    array: &VirtualArray,
+    channel_values: &[CQ15],
+    out: &mut [CQ15],
+) -> Result<Exponent, ArrayError> {
     if !fft::is_supported_len(out.len()) {
-        return Err(ArrayError::Buffer { what: "azimuth FFT (power of two, 16..=2048)", expected: array.span().max(fft::MIN_LEN), got: out.len() });
+        return Err(ArrayError::Buffer {
+            what: "azimuth FFT (power of two, 16..=2048)",
+            expected: array.span().max(fft::MIN_LEN),
+            got: out.len(),
+        });
     }
     array.gather(channel_values, out)?;
     fft::cfft_q15(out).map_err(|_| ArrayError::Span(out.len()))

@@ -35,7 +35,10 @@ impl fmt::Display for CaptureError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::OddSampleCount(n) => {
-                write!(f, "{n} samples requested: DCA1000 groups carry two samples, ask for an even count")
+                write!(
+                    f,
+                    "{n} samples requested: DCA1000 groups carry two samples, ask for an even count"
+                )
             }
             Self::Length { expected, got } => write!(
                 f,
@@ -50,12 +53,19 @@ impl fmt::Display for CaptureError {
 ///
 /// # Errors
 /// [`CaptureError`] if `out.len()` is odd or `bytes.len() != 4 · out.len()`.
-pub fn deinterleave_bytes(bytes: &[u8], order: IqOrder, out: &mut [CQ15]) -> Result<(), CaptureError> {
+pub fn deinterleave_bytes(
+    bytes: &[u8],
+    order: IqOrder,
+    out: &mut [CQ15],
+) -> Result<(), CaptureError> {
     if out.len() % 2 != 0 {
         return Err(CaptureError::OddSampleCount(out.len()));
     }
     if bytes.len() != out.len() * 4 {
-        return Err(CaptureError::Length { expected: out.len() * 4, got: bytes.len() });
+        return Err(CaptureError::Length {
+            expected: out.len() * 4,
+            got: bytes.len(),
+        });
     }
     for (group, pair) in bytes.chunks_exact(8).zip(out.chunks_exact_mut(2)) {
         let w = |i: usize| i16::from_le_bytes([group[2 * i], group[2 * i + 1]]);
@@ -80,13 +90,27 @@ mod tests {
         let bytes: std::vec::Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
         let mut out = [CQ15::default(); 4];
         deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut out).unwrap();
-        assert_eq!(out, [CQ15::from_raw(1, 3), CQ15::from_raw(2, 4), CQ15::from_raw(-5, -7), CQ15::from_raw(-6, -8)]);
+        assert_eq!(
+            out,
+            [
+                CQ15::from_raw(1, 3),
+                CQ15::from_raw(2, 4),
+                CQ15::from_raw(-5, -7),
+                CQ15::from_raw(-6, -8)
+            ]
+        );
         deinterleave_bytes(&bytes, IqOrder::Qqii, &mut out).unwrap();
         assert_eq!(out[0], CQ15::from_raw(3, 1));
         assert_eq!(
             deinterleave_bytes(&bytes[..12], IqOrder::Iiqq, &mut out),
-            Err(CaptureError::Length { expected: 16, got: 12 })
+            Err(CaptureError::Length {
+                expected: 16,
+                got: 12
+            })
         );
-        assert_eq!(deinterleave_bytes(&bytes[..12], IqOrder::Iiqq, &mut out[..3]), Err(CaptureError::OddSampleCount(3)));
+        assert_eq!(
+            deinterleave_bytes(&bytes[..12], IqOrder::Iiqq, &mut out[..3]),
+            Err(CaptureError::OddSampleCount(3))
+        );
     }
 }

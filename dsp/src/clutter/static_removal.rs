@@ -13,7 +13,9 @@ pub fn remove_mean(column: &mut [CQ15]) -> u32 {
         return 0;
     }
     let n = column.len() as i64;
-    let (sr, si) = column.iter().fold((0i64, 0i64), |(r, i), z| (r + z.re.0 as i64, i + z.im.0 as i64));
+    let (sr, si) = column.iter().fold((0i64, 0i64), |(r, i), z| {
+        (r + z.re.0 as i64, i + z.im.0 as i64)
+    });
     let mean = |s: i64| libm::round(s as f64 / n as f64) as i32;
     let (mr, mi) = (mean(sr), mean(si));
     let fits = column.iter().all(|z| {
@@ -36,7 +38,9 @@ mod tests {
 
     #[test]
     fn removes_constant_and_keeps_variation() {
-        let mut c: std::vec::Vec<CQ15> = (0..8).map(|k| CQ15::from_raw(1000 + if k % 2 == 0 { 50 } else { -50 }, -300)).collect();
+        let mut c: std::vec::Vec<CQ15> = (0..8)
+            .map(|k| CQ15::from_raw(1000 + if k % 2 == 0 { 50 } else { -50 }, -300))
+            .collect();
         assert_eq!(remove_mean(&mut c), 0);
         assert_eq!(c[0], CQ15::from_raw(50, 0));
         assert_eq!(c[1], CQ15::from_raw(-50, 0));
@@ -44,7 +48,11 @@ mod tests {
 
     #[test]
     fn halves_instead_of_overflowing() {
-        let mut c = [CQ15::from_raw(32767, 0), CQ15::from_raw(-32768, 0), CQ15::from_raw(-32768, 0)];
+        let mut c = [
+            CQ15::from_raw(32767, 0),
+            CQ15::from_raw(-32768, 0),
+            CQ15::from_raw(-32768, 0),
+        ];
         assert_eq!(remove_mean(&mut c), 1);
         // mean −10923; 32767 + 10923 = 43690 → 21845
         assert_eq!(c[0].re.0, 21845);

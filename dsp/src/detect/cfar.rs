@@ -76,7 +76,10 @@ impl fmt::Display for CfarError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::TooManyTrainingCells(n) => {
-                write!(f, "{n} training cells: OS-CFAR sorts at most {MAX_OS_CELLS}; use fewer training cells")
+                write!(
+                    f,
+                    "{n} training cells: OS-CFAR sorts at most {MAX_OS_CELLS}; use fewer training cells"
+                )
             }
             Self::Shape { expected, got } => write!(f, "map of {got} cells given for {expected}"),
         }
@@ -102,7 +105,12 @@ struct Estimator {
 
 impl Estimator {
     fn new(kind: CfarKind) -> Self {
-        Self { kind, sum: 0.0, count: 0, cells: [0.0; MAX_OS_CELLS] }
+        Self {
+            kind,
+            sum: 0.0,
+            count: 0,
+            cells: [0.0; MAX_OS_CELLS],
+        }
     }
 
     fn reset(&mut self) {
@@ -117,7 +125,10 @@ impl Estimator {
         match self.kind {
             CfarKind::CellAveraging => self.sum += v as f64,
             CfarKind::OrderedStatistic { .. } => {
-                *self.cells.get_mut(self.count).ok_or(CfarError::TooManyTrainingCells(self.count + 1))? = v;
+                *self
+                    .cells
+                    .get_mut(self.count)
+                    .ok_or(CfarError::TooManyTrainingCells(self.count + 1))? = v;
             }
         }
         self.count += 1;
@@ -160,7 +171,11 @@ impl Cfar {
             if let Some(level) = est.level() {
                 let threshold = self.scale * level;
                 if v > threshold {
-                    emit(Detection { index: i, value: v, threshold });
+                    emit(Detection {
+                        index: i,
+                        value: v,
+                        threshold,
+                    });
                     found += 1;
                 }
             }
@@ -185,19 +200,36 @@ impl Cfar2d {
     ///
     /// # Errors
     /// [`CfarError`] if the shape is wrong or the OS window is too large.
-    pub fn detect(&self, map: &[f32], rows: usize, cols: usize, mut emit: impl FnMut(Detection)) -> Result<usize, CfarError> {
+    pub fn detect(
+        &self,
+        map: &[f32],
+        rows: usize,
+        cols: usize,
+        mut emit: impl FnMut(Detection),
+    ) -> Result<usize, CfarError> {
         if map.len() != rows * cols {
-            return Err(CfarError::Shape { expected: rows * cols, got: map.len() });
+            return Err(CfarError::Shape {
+                expected: rows * cols,
+                got: map.len(),
+            });
         }
-        let (rg, rt) = (self.rows.guard as isize, (self.rows.guard + self.rows.train) as isize);
-        let (cg, ct) = (self.cols.guard as isize, (self.cols.guard + self.cols.train) as isize);
+        let (rg, rt) = (
+            self.rows.guard as isize,
+            (self.rows.guard + self.rows.train) as isize,
+        );
+        let (cg, ct) = (
+            self.cols.guard as isize,
+            (self.cols.guard + self.cols.train) as isize,
+        );
         let mut est = Estimator::new(self.rows.kind);
         let mut found = 0;
         for r in 0..rows {
             for c in 0..cols {
                 est.reset();
                 for dr in -rt..=rt {
-                    let Some(rr) = neighbour(r, dr, rows, self.rows.edge) else { continue };
+                    let Some(rr) = neighbour(r, dr, rows, self.rows.edge) else {
+                        continue;
+                    };
                     for dc in -ct..=ct {
                         if dr.abs() <= rg && dc.abs() <= cg {
                             continue;
@@ -211,7 +243,11 @@ impl Cfar2d {
                 if let Some(level) = est.level() {
                     let threshold = self.rows.scale * level;
                     if v > threshold {
-                        emit(Detection { index: r * cols + c, value: v, threshold });
+                        emit(Detection {
+                            index: r * cols + c,
+                            value: v,
+                            threshold,
+                        });
                         found += 1;
                     }
                 }
@@ -227,7 +263,9 @@ mod tests {
     use std::vec::Vec;
 
     fn noise_with_targets() -> Vec<f32> {
-        let mut x: Vec<f32> = (0..128).map(|i| 1.0 + 0.2 * ((i * 37 % 11) as f32 / 11.0)).collect();
+        let mut x: Vec<f32> = (0..128)
+            .map(|i| 1.0 + 0.2 * ((i * 37 % 11) as f32 / 11.0))
+            .collect();
         x[40] = 30.0;
         x[44] = 25.0; // a second target inside the first one's training window
         x[100] = 3.0; // too weak
@@ -237,24 +275,41 @@ mod tests {
     #[test]
     fn ca_and_os_find_targets_and_os_resists_masking() {
         let x = noise_with_targets();
-        let base = Cfar { guard: 1, train: 6, scale: 5.0, kind: CfarKind::CellAveraging, edge: Edge::Truncate };
+        let base = Cfar {
+            guard: 1,
+            train: 6,
+            scale: 5.0,
+            kind: CfarKind::CellAveraging,
+            edge: Edge::Truncate,
+        };
         let mut ca = Vec::new();
         base.detect(&x, |d| ca.push(d.index)).unwrap();
-        let os = Cfar { kind: CfarKind::OrderedStatistic { rank: 0.75 }, ..base };
+        let os = Cfar {
+            kind: CfarKind::OrderedStatistic { rank: 0.75 },
+            ..base
+        };
         let mut os_hits = Vec::new();
         os.detect(&x, |d| os_hits.push(d.index)).unwrap();
         assert_eq!(os_hits, [40, 44]);
         assert!(ca.contains(&40) && !ca.contains(&100));
         // CA's threshold at 44 is raised by the target at 40: 4 cells of 30 in 12 → masked at scale 5.
         let mut ca_strict = Vec::new();
-        Cfar { scale: 8.0, ..base }.detect(&x, |d| ca_strict.push(d.index)).unwrap();
+        Cfar { scale: 8.0, ..base }
+            .detect(&x, |d| ca_strict.push(d.index))
+            .unwrap();
         assert!(!ca_strict.contains(&44));
     }
 
     #[test]
     fn closed_form_ca_threshold() {
         let x = [1.0, 2.0, 3.0, 100.0, 5.0, 6.0, 7.0];
-        let cfar = Cfar { guard: 0, train: 3, scale: 2.0, kind: CfarKind::CellAveraging, edge: Edge::Wrap };
+        let cfar = Cfar {
+            guard: 0,
+            train: 3,
+            scale: 2.0,
+            kind: CfarKind::CellAveraging,
+            edge: Edge::Wrap,
+        };
         let mut d = Vec::new();
         cfar.detect(&x, |v| d.push(v)).unwrap();
         assert_eq!(d.len(), 1);
@@ -267,15 +322,34 @@ mod tests {
         let (rows, cols) = (32, 16);
         let mut m = std::vec![1.0f32; rows * cols];
         m[10 * cols + 3] = 50.0;
-        let axis = Cfar { guard: 1, train: 3, scale: 6.0, kind: CfarKind::OrderedStatistic { rank: 0.75 }, edge: Edge::Truncate };
-        let cfar = Cfar2d { rows: axis, cols: Cfar { edge: Edge::Wrap, ..axis } };
+        let axis = Cfar {
+            guard: 1,
+            train: 3,
+            scale: 6.0,
+            kind: CfarKind::OrderedStatistic { rank: 0.75 },
+            edge: Edge::Truncate,
+        };
+        let cfar = Cfar2d {
+            rows: axis,
+            cols: Cfar {
+                edge: Edge::Wrap,
+                ..axis
+            },
+        };
         let mut hits = Vec::new();
         cfar.detect(&m, rows, cols, |d| hits.push(d.index)).unwrap();
         assert_eq!(hits, [10 * cols + 3]);
         assert!(cfar.detect(&m[1..], rows, cols, |_| ()).is_err());
         let big = Cfar { train: 20, ..axis };
         assert_eq!(
-            Cfar2d { rows: big, cols: Cfar { edge: Edge::Wrap, ..big } }.detect(&m, rows, cols, |_| ()),
+            Cfar2d {
+                rows: big,
+                cols: Cfar {
+                    edge: Edge::Wrap,
+                    ..big
+                }
+            }
+            .detect(&m, rows, cols, |_| ()),
             Err(CfarError::TooManyTrainingCells(MAX_OS_CELLS + 1))
         );
     }

@@ -64,8 +64,14 @@ impl fmt::Display for DopplerError {
                 f,
                 "Doppler scratch of {got} points for {loops} loops: use a power of two ≥ loops (and ≥ 16)"
             ),
-            Self::Window { loops, got } => write!(f, "Doppler window of {got} for {loops} loops: use one coefficient per loop"),
-            Self::Map { expected, got } => write!(f, "range–Doppler map holds {got} cells but {expected} are needed"),
+            Self::Window { loops, got } => write!(
+                f,
+                "Doppler window of {got} for {loops} loops: use one coefficient per loop"
+            ),
+            Self::Map { expected, got } => write!(
+                f,
+                "range–Doppler map holds {got} cells but {expected} are needed"
+            ),
         }
     }
 }
@@ -86,11 +92,17 @@ pub fn doppler_column(
 ) -> Result<Exponent, DopplerError> {
     let loops = cube.loops();
     if !fft::is_supported_len(scratch.len()) || scratch.len() < loops {
-        return Err(DopplerError::Scratch { loops, got: scratch.len() });
+        return Err(DopplerError::Scratch {
+            loops,
+            got: scratch.len(),
+        });
     }
     if let Some(w) = options.window {
         if w.len() != loops {
-            return Err(DopplerError::Window { loops, got: w.len() });
+            return Err(DopplerError::Window {
+                loops,
+                got: w.len(),
+            });
         }
     }
     let Exponent(mut exp) = cube.gather_column(channel, bin, scratch)?;

@@ -25,7 +25,10 @@ pub fn range_doppler_map(
     let nd = scratch.len();
     let expected = cube.bins() * nd;
     if out.len() != expected {
-        return Err(DopplerError::Map { expected, got: out.len() });
+        return Err(DopplerError::Map {
+            expected,
+            got: out.len(),
+        });
     }
     out.fill(0.0);
     for bin in 0..cube.bins() {

@@ -47,7 +47,11 @@ impl Format for Q15 {
     }
     #[inline(always)]
     fn narrow(w: i32, shift: u32) -> Self {
-        if shift == 0 { Q15(w as i16) } else { Q15(((w + (1 << (shift - 1))) >> shift) as i16) }
+        if shift == 0 {
+            Q15(w as i16)
+        } else {
+            Q15(((w + (1 << (shift - 1))) >> shift) as i16)
+        }
     }
     #[inline(always)]
     fn rotate(a: Complex<Self>, w: Complex<Self>) -> Complex<Self> {
@@ -75,7 +79,11 @@ impl Format for Q31 {
     }
     #[inline(always)]
     fn narrow(w: i64, shift: u32) -> Self {
-        if shift == 0 { Q31(w as i32) } else { Q31(((w + (1 << (shift - 1))) >> shift) as i32) }
+        if shift == 0 {
+            Q31(w as i32)
+        } else {
+            Q31(((w + (1 << (shift - 1))) >> shift) as i32)
+        }
     }
     #[inline(always)]
     fn rotate(a: Complex<Self>, w: Complex<Self>) -> Complex<Self> {

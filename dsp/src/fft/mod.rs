@@ -60,12 +60,20 @@ pub const fn is_supported_len(n: usize) -> bool {
 
 /// The smallest supported FFT length that holds `n` samples, if any.
 pub const fn padded_len(n: usize) -> Option<usize> {
-    let p = if n <= MIN_LEN { MIN_LEN } else { n.next_power_of_two() };
+    let p = if n <= MIN_LEN {
+        MIN_LEN
+    } else {
+        n.next_power_of_two()
+    };
     if p <= MAX_LEN { Some(p) } else { None }
 }
 
 fn check(n: usize) -> Result<(), FftError> {
-    if is_supported_len(n) { Ok(()) } else { Err(FftError::UnsupportedLength(n)) }
+    if is_supported_len(n) {
+        Ok(())
+    } else {
+        Err(FftError::UnsupportedLength(n))
+    }
 }
 
 /// Forward complex FFT of Q15 samples in place, natural order in and out.
@@ -100,7 +108,10 @@ pub fn cfft_q31(buf: &mut [CQ31]) -> Result<Exponent, FftError> {
 pub struct Cfft<const N: usize>;
 
 impl<const N: usize> Cfft<N> {
-    const LEN_OK: () = assert!(is_supported_len(N), "FFT length must be a power of two in 16..=2048");
+    const LEN_OK: () = assert!(
+        is_supported_len(N),
+        "FFT length must be a power of two in 16..=2048"
+    );
 
     /// Forward Q15 FFT; see [`cfft_q15`].
     pub fn q15(buf: &mut [CQ15; N]) -> Exponent {

@@ -105,6 +105,9 @@ mod tests {
         let b = Complex::<Q15>::from_raw(1000, 1000);
         assert_eq!(a + b, Complex::<Q15>::from_raw(32767, -31000));
         assert_eq!(a - b, Complex::<Q15>::from_raw(31000, -32768));
-        assert_eq!(Complex::<Q15>::from_raw(-32768, -32768).norm_sqr_raw(), 1 << 31);
+        assert_eq!(
+            Complex::<Q15>::from_raw(-32768, -32768).norm_sqr_raw(),
+            1 << 31
+        );
     }
 }

@@ -48,7 +48,11 @@ impl Q15 {
     /// Saturating multiplication, rounded to nearest (−1 × −1 gives [`Q15::MAX`]).
     pub const fn saturating_mul(self, rhs: Self) -> Self {
         let p = (self.0 as i32 * rhs.0 as i32 + (1 << 14)) >> 15;
-        Self(if p > i16::MAX as i32 { i16::MAX } else { p as i16 })
+        Self(if p > i16::MAX as i32 {
+            i16::MAX
+        } else {
+            p as i16
+        })
     }
 }
 

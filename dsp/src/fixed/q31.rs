@@ -53,7 +53,11 @@ impl Q31 {
     /// Saturating multiplication, rounded to nearest (−1 × −1 gives [`Q31::MAX`]).
     pub const fn saturating_mul(self, rhs: Self) -> Self {
         let p = (self.0 as i64 * rhs.0 as i64 + (1 << 30)) >> 31;
-        Self(if p > i32::MAX as i64 { i32::MAX } else { p as i32 })
+        Self(if p > i32::MAX as i64 {
+            i32::MAX
+        } else {
+            p as i32
+        })
     }
 }
 

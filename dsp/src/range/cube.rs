@@ -24,16 +24,38 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
     ///
     /// # Errors
     /// [`RangeError::Buffer`] if `data` or `exponents` has the wrong length.
-    pub fn new(data: D, exponents: E, slots: usize, rx: usize, loops: usize, bins: usize) -> Result<Self, RangeError> {
+    pub fn new(
+        data: D,
+        exponents: E,
+        slots: usize,
+        rx: usize,
+        loops: usize,
+        bins: usize,
+    ) -> Result<Self, RangeError> {
         let rows = slots * rx * loops;
         let (n_data, n_exp) = (data.as_ref().len(), exponents.as_ref().len());
         if n_data != rows * bins {
-            return Err(RangeError::Buffer { what: "cube data", expected: rows * bins, got: n_data });
+            return Err(RangeError::Buffer {
+                what: "cube data",
+                expected: rows * bins,
+                got: n_data,
+            });
         }
         if n_exp != rows {
-            return Err(RangeError::Buffer { what: "cube exponents", expected: rows, got: n_exp });
+            return Err(RangeError::Buffer {
+                what: "cube exponents",
+                expected: rows,
+                got: n_exp,
+            });
         }
-        Ok(Self { data, exponents, slots, rx, loops, bins })
+        Ok(Self {
+            data,
+            exponents,
+            slots,
+            rx,
+            loops,
+            bins,
+        })
     }
 
     /// Virtual channels.
@@ -53,10 +75,18 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
 
     fn row_index(&self, channel: usize, lp: usize) -> Result<usize, RangeError> {
         if channel >= self.channels() {
-            return Err(RangeError::Index { what: "channel", index: channel, len: self.channels() });
+            return Err(RangeError::Index {
+                what: "channel",
+                index: channel,
+                len: self.channels(),
+            });
         }
         if lp >= self.loops {
-            return Err(RangeError::Index { what: "loop", index: lp, len: self.loops });
+            return Err(RangeError::Index {
+                what: "loop",
+                index: lp,
+                len: self.loops,
+            });
         }
         Ok(channel * self.loops + lp)
     }
@@ -67,12 +97,18 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
     /// [`RangeError::Index`] if either index is out of range.
     pub fn row(&self, channel: usize, lp: usize) -> Result<(&[CQ15], Exponent), RangeError> {
         let r = self.row_index(channel, lp)?;
-        Ok((&self.data.as_ref()[r * self.bins..(r + 1) * self.bins], self.exponents.as_ref()[r]))
+        Ok((
+            &self.data.as_ref()[r * self.bins..(r + 1) * self.bins],
+            self.exponents.as_ref()[r],
+        ))
     }
 
     /// Every row with its exponent, in `[channel][loop]` order.
     pub fn rows(&self) -> impl Iterator<Item = (&[CQ15], Exponent)> {
-        self.data.as_ref().chunks_exact(self.bins.max(1)).zip(self.exponents.as_ref().iter().copied())
+        self.data
+            .as_ref()
+            .chunks_exact(self.bins.max(1))
+            .zip(self.exponents.as_ref().iter().copied())
     }
 
     /// Copies the values of range bin `bin` of `channel` over all loops into `out[..loops]`,
@@ -80,12 +116,25 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
     ///
     /// # Errors
     /// [`RangeError`] if an index is out of range or `out` is shorter than the loops.
-    pub fn gather_column(&self, channel: usize, bin: usize, out: &mut [CQ15]) -> Result<Exponent, RangeError> {
+    pub fn gather_column(
+        &self,
+        channel: usize,
+        bin: usize,
+        out: &mut [CQ15],
+    ) -> Result<Exponent, RangeError> {
         if bin >= self.bins {
-            return Err(RangeError::Index { what: "range bin", index: bin, len: self.bins });
+            return Err(RangeError::Index {
+                what: "range bin",
+                index: bin,
+                len: self.bins,
+            });
         }
         if out.len() < self.loops {
-            return Err(RangeError::Buffer { what: "column", expected: self.loops, got: out.len() });
+            return Err(RangeError::Buffer {
+                what: "column",
+                expected: self.loops,
+                got: out.len(),
+            });
         }
         let first = self.row_index(channel, 0)?;
         let exps = &self.exponents.as_ref()[first..first + self.loops];
@@ -113,7 +162,11 @@ impl<D: AsRef<[CQ15]> + AsMut<[CQ15]>, E: AsRef<[Exponent]> + AsMut<[Exponent]>>
         samples: &[CQ15],
     ) -> Result<(), RangeError> {
         if rx >= self.rx {
-            return Err(RangeError::Index { what: "rx", index: rx, len: self.rx });
+            return Err(RangeError::Index {
+                what: "rx",
+                index: rx,
+                len: self.rx,
+            });
         }
         let (lp, slot) = (chirp / self.slots, chirp % self.slots);
         let r = self.row_index(slot * self.rx + rx, lp)?;
@@ -121,5 +174,4 @@ impl<D: AsRef<[CQ15]> + AsMut<[CQ15]>, E: AsRef<[Exponent]> + AsMut<[Exponent]>>
         self.exponents.as_mut()[r] = processor.process(samples, out)?;
         Ok(())
     }
-
 }

@@ -48,12 +48,24 @@ impl fmt::Display for RangeError {
         match self {
             Self::Fft(e) => e.fmt(f),
             Self::Samples { expected, got } => {
-                write!(f, "{got} samples given to a range stage built for {expected}: check `adc_samples`")
+                write!(
+                    f,
+                    "{got} samples given to a range stage built for {expected}: check `adc_samples`"
+                )
             }
-            Self::Buffer { what, expected, got } => {
-                write!(f, "{what} holds {got} entries but {expected} are needed: size it from the radar config")
+            Self::Buffer {
+                what,
+                expected,
+                got,
+            } => {
+                write!(
+                    f,
+                    "{what} holds {got} entries but {expected} are needed: size it from the radar config"
+                )
             }
-            Self::Index { what, index, len } => write!(f, "{what} {index} is out of range (0..{len})"),
+            Self::Index { what, index, len } => {
+                write!(f, "{what} {index} is out of range (0..{len})")
+            }
         }
     }
 }
@@ -73,19 +85,34 @@ impl<'w> RangeProcessor<'w> {
     /// # Errors
     /// [`RangeError`] if `fft_len` is unsupported, smaller than `samples`, or the window length
     /// differs from `samples`.
-    pub fn new(samples: usize, fft_len: usize, window: Option<&'w [Q15]>) -> Result<Self, RangeError> {
+    pub fn new(
+        samples: usize,
+        fft_len: usize,
+        window: Option<&'w [Q15]>,
+    ) -> Result<Self, RangeError> {
         if !fft::is_supported_len(fft_len) {
             return Err(FftError::UnsupportedLength(fft_len).into());
         }
         if samples > fft_len || samples == 0 {
-            return Err(RangeError::Samples { expected: fft_len, got: samples });
+            return Err(RangeError::Samples {
+                expected: fft_len,
+                got: samples,
+            });
         }
         if let Some(w) = window {
             if w.len() != samples {
-                return Err(RangeError::Buffer { what: "window", expected: samples, got: w.len() });
+                return Err(RangeError::Buffer {
+                    what: "window",
+                    expected: samples,
+                    got: w.len(),
+                });
             }
         }
-        Ok(Self { window, samples, fft_len })
+        Ok(Self {
+            window,
+            samples,
+            fft_len,
+        })
     }
 
     /// FFT points per chirp.
@@ -104,10 +131,17 @@ impl<'w> RangeProcessor<'w> {
     /// [`RangeError`] if `samples` or `out` has the wrong length.
     pub fn process(&self, samples: &[CQ15], out: &mut [CQ15]) -> Result<Exponent, RangeError> {
         if samples.len() != self.samples {
-            return Err(RangeError::Samples { expected: self.samples, got: samples.len() });
+            return Err(RangeError::Samples {
+                expected: self.samples,
+                got: samples.len(),
+            });
         }
         if out.len() != self.fft_len {
-            return Err(RangeError::Buffer { what: "range output", expected: self.fft_len, got: out.len() });
+            return Err(RangeError::Buffer {
+                what: "range output",
+                expected: self.fft_len,
+                got: out.len(),
+            });
         }
         let (head, tail) = out.split_at_mut(self.samples);
         head.copy_from_slice(samples);

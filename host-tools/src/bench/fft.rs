@@ -61,32 +61,52 @@ impl Input {
     fn new(n: usize, dbfs: f64, seed: u64) -> Self {
         let amp = 10f64.powf(dbfs / 20.0);
         let mut noise = Noise(seed);
-        let v: Vec<(f64, f64)> = (0..n).map(|_| (amp * noise.next(), amp * noise.next())).collect();
+        let v: Vec<(f64, f64)> = (0..n)
+            .map(|_| (amp * noise.next(), amp * noise.next()))
+            .collect();
         Self {
-            q15: v.iter().map(|&(r, i)| CQ15::from_f32(r as f32, i as f32)).collect(),
-            q31: v.iter().map(|&(r, i)| Complex::new(Q31::from_f64(r), Q31::from_f64(i))).collect(),
+            q15: v
+                .iter()
+                .map(|&(r, i)| CQ15::from_f32(r as f32, i as f32))
+                .collect(),
+            q31: v
+                .iter()
+                .map(|&(r, i)| Complex::new(Q31::from_f64(r), Q31::from_f64(i)))
+                .collect(),
         }
     }
 
     fn q15_f64(&self) -> Vec<Complex64> {
-        self.q15.iter().map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64)).collect()
+        self.q15
+            .iter()
+            .map(|z| Complex64::new(z.re.to_f32() as f64, z.im.to_f32() as f64))
+            .collect()
     }
 
     fn q31_f64(&self) -> Vec<Complex64> {
-        self.q31.iter().map(|z| Complex64::new(z.re.to_f64(), z.im.to_f64())).collect()
+        self.q31
+            .iter()
+            .map(|z| Complex64::new(z.re.to_f64(), z.im.to_f64()))
+            .collect()
     }
 }
 
 fn reference(x: &[Complex64]) -> Vec<Complex64> {
     let mut y = x.to_vec();
-    FftPlanner::<f64>::new().plan_fft_forward(y.len()).process(&mut y);
+    FftPlanner::<f64>::new()
+        .plan_fft_forward(y.len())
+        .process(&mut y);
     y
 }
 
 /// SQNR of `ours` against `reference`, dB.
 pub fn sqnr_db(reference: &[Complex64], ours: &[Complex64]) -> f64 {
     let s: f64 = reference.iter().map(|r| r.norm_sqr()).sum();
-    let e: f64 = reference.iter().zip(ours).map(|(r, o)| (r - o).norm_sqr()).sum();
+    let e: f64 = reference
+        .iter()
+        .zip(ours)
+        .map(|(r, o)| (r - o).norm_sqr())
+        .sum();
     10.0 * (s / e).log10()
 }
 
@@ -99,24 +119,42 @@ fn transform(implementation: &str, input: &Input) -> Vec<Complex64> {
         "q15" => {
             let mut b = input.q15.clone();
             let s = cfft_q15(&mut b).map(|e| e.scale_f64()).unwrap_or(f64::NAN);
-            b.iter().map(|z| Complex64::new(z.re.to_f32() as f64 * s, z.im.to_f32() as f64 * s)).collect()
+            b.iter()
+                .map(|z| Complex64::new(z.re.to_f32() as f64 * s, z.im.to_f32() as f64 * s))
+                .collect()
         }
         "q31" => {
             let mut b = input.q31.clone();
             let s = cfft_q31(&mut b).map(|e| e.scale_f64()).unwrap_or(f64::NAN);
-            b.iter().map(|z| Complex64::new(z.re.to_f64() * s, z.im.to_f64() * s)).collect()
+            b.iter()
+                .map(|z| Complex64::new(z.re.to_f64() * s, z.im.to_f64() * s))
+                .collect()
         }
         "microfft_f32" => {
-            let mut b: Vec<Complex32> = input.q15.iter().map(|z| Complex32::new(z.re.to_f32(), z.im.to_f32())).collect();
+            let mut b: Vec<Complex32> = input
+                .q15
+                .iter()
+                .map(|z| Complex32::new(z.re.to_f32(), z.im.to_f32()))
+                .collect();
             if cfft_f32(&mut b).is_err() {
                 return vec![Complex64::new(f64::NAN, 0.0); b.len()];
             }
-            b.iter().map(|z| Complex64::new(z.re as f64, z.im as f64)).collect()
+            b.iter()
+                .map(|z| Complex64::new(z.re as f64, z.im as f64))
+                .collect()
         }
         _ => {
-            let mut b: Vec<RComplex32> = input.q15.iter().map(|z| RComplex32::new(z.re.to_f32(), z.im.to_f32())).collect();
-            FftPlanner::<f32>::new().plan_fft_forward(b.len()).process(&mut b);
-            b.iter().map(|z| Complex64::new(z.re as f64, z.im as f64)).collect()
+            let mut b: Vec<RComplex32> = input
+                .q15
+                .iter()
+                .map(|z| RComplex32::new(z.re.to_f32(), z.im.to_f32()))
+                .collect();
+            FftPlanner::<f32>::new()
+                .plan_fft_forward(b.len())
+                .process(&mut b);
+            b.iter()
+                .map(|z| Complex64::new(z.re as f64, z.im as f64))
+                .collect()
         }
     }
 }
@@ -135,7 +173,11 @@ fn sqnr_of(implementation: &str, n: usize, dbfs: f64) -> f64 {
         (1..=SEEDS)
             .map(|seed| {
                 let input = Input::new(n, dbfs, seed);
-                let reference = if implementation == "q31" { reference(&input.q31_f64()) } else { reference(&input.q15_f64()) };
+                let reference = if implementation == "q31" {
+                    reference(&input.q31_f64())
+                } else {
+                    reference(&input.q15_f64())
+                };
                 sqnr_db(&reference, &transform(implementation, &input))
             })
             .collect(),
@@ -147,9 +189,18 @@ fn time_ns(implementation: &str, n: usize) -> f64 {
     let input = Input::new(n, -12.0, 1);
     let mut best = f64::INFINITY;
     let planner = FftPlanner::<f32>::new().plan_fft_forward(n);
-    let f32_in: Vec<Complex32> = input.q15.iter().map(|z| Complex32::new(z.re.to_f32(), z.im.to_f32())).collect();
+    let f32_in: Vec<Complex32> = input
+        .q15
+        .iter()
+        .map(|z| Complex32::new(z.re.to_f32(), z.im.to_f32()))
+        .collect();
     let r32_in: Vec<RComplex32> = f32_in.iter().map(|z| RComplex32::new(z.re, z.im)).collect();
-    let (mut q15, mut q31, mut f32b, mut r32) = (input.q15.clone(), input.q31.clone(), f32_in.clone(), r32_in.clone());
+    let (mut q15, mut q31, mut f32b, mut r32) = (
+        input.q15.clone(),
+        input.q31.clone(),
+        f32_in.clone(),
+        r32_in.clone(),
+    );
     let mut scratch = vec![RComplex32::default(); planner.get_inplace_scratch_len()];
     for _ in 0..5 {
         let mut iters = 0u64;
@@ -192,8 +243,22 @@ fn cmsis_rows(sizes: &[usize]) -> Result<Vec<FftRow>, String> {
                 for seed in 1..=SEEDS {
                     let input = Input::new(n, dbfs, seed);
                     let (data, reference) = match format {
-                        CmsisFormat::Q15 => (input.q15.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(), reference(&input.q15_f64())),
-                        CmsisFormat::Q31 => (input.q31.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(), reference(&input.q31_f64())),
+                        CmsisFormat::Q15 => (
+                            input
+                                .q15
+                                .iter()
+                                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
+                                .collect(),
+                            reference(&input.q15_f64()),
+                        ),
+                        CmsisFormat::Q31 => (
+                            input
+                                .q31
+                                .iter()
+                                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
+                                .collect(),
+                            reference(&input.q31_f64()),
+                        ),
                     };
                     requests.push(CmsisRequest { format, data });
                     refs.push((n, format, dbfs, reference));
@@ -214,14 +279,27 @@ fn cmsis_rows(sizes: &[usize]) -> Result<Vec<FftRow>, String> {
                     .map(|((_, _, _, reference), raw)| {
                         let frac = if format == CmsisFormat::Q15 { 15 } else { 31 };
                         let s = n as f64 / (1u64 << frac) as f64;
-                        let ours: Vec<Complex64> = raw.chunks_exact(2).map(|p| Complex64::new(p[0] as f64 * s, p[1] as f64 * s)).collect();
+                        let ours: Vec<Complex64> = raw
+                            .chunks_exact(2)
+                            .map(|p| Complex64::new(p[0] as f64 * s, p[1] as f64 * s))
+                            .collect();
                         sqnr_db(reference, &ours)
                     })
                     .collect();
                 sqnr[li] = median(v);
             }
-            let name = if format == CmsisFormat::Q15 { "cmsis_q15" } else { "cmsis_q31" };
-            rows.push(FftRow { n, implementation: name.into(), ns_per_fft: None, sqnr_db_m12: sqnr[0], sqnr_db_m40: sqnr[1] });
+            let name = if format == CmsisFormat::Q15 {
+                "cmsis_q15"
+            } else {
+                "cmsis_q31"
+            };
+            rows.push(FftRow {
+                n,
+                implementation: name.into(),
+                ns_per_fft: None,
+                sqnr_db_m12: sqnr[0],
+                sqnr_db_m40: sqnr[1],
+            });
         }
     }
     Ok(rows)
@@ -231,10 +309,19 @@ fn cmsis_rows(sizes: &[usize]) -> Result<Vec<FftRow>, String> {
 fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|s| s.trim().to_owned()))
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_owned())
+        })
         .unwrap_or_else(|| "unknown CPU".into());
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{cpu}, {cores} cores, {} {}", std::env::consts::OS, std::env::consts::ARCH)
+    format!(
+        "{cpu}, {cores} cores, {} {}",
+        std::env::consts::OS,
+        std::env::consts::ARCH
+    )
 }
 
 /// Measures every implementation at every size in one run; `timing: false` skips the clock
@@ -259,21 +346,37 @@ pub fn run(sizes: &[usize], timing: bool) -> FftReport {
         }
         Err(e) => Some(e),
     };
-    FftReport { machine: machine(), fft, cmsis_missing }
+    FftReport {
+        machine: machine(),
+        fft,
+        cmsis_missing,
+    }
 }
 
 impl std::fmt::Display for FftReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(f, "FFT benchmark on {}", self.machine)?;
-        writeln!(f, "{:>5} {:<13} {:>10} {:>10} {:>12} {:>12}", "n", "impl", "ns/fft", "vs rustfft", "SQNR -12dB", "SQNR -40dB")?;
+        writeln!(
+            f,
+            "{:>5} {:<13} {:>10} {:>10} {:>12} {:>12}",
+            "n", "impl", "ns/fft", "vs rustfft", "SQNR -12dB", "SQNR -40dB"
+        )?;
         for r in &self.fft {
-            let base = self.fft.iter().find(|b| b.n == r.n && b.implementation == "rustfft_f32").and_then(|b| b.ns_per_fft);
+            let base = self
+                .fft
+                .iter()
+                .find(|b| b.n == r.n && b.implementation == "rustfft_f32")
+                .and_then(|b| b.ns_per_fft);
             let (ns, ratio) = match (r.ns_per_fft, base) {
                 (Some(ns), Some(b)) => (format!("{ns:.0}"), format!("{:.2}×", ns / b)),
                 (Some(ns), None) => (format!("{ns:.0}"), "—".into()),
                 _ => ("—".into(), "—".into()),
             };
-            writeln!(f, "{:>5} {:<13} {:>10} {:>10} {:>12.1} {:>12.1}", r.n, r.implementation, ns, ratio, r.sqnr_db_m12, r.sqnr_db_m40)?;
+            writeln!(
+                f,
+                "{:>5} {:<13} {:>10} {:>10} {:>12.1} {:>12.1}",
+                r.n, r.implementation, ns, ratio, r.sqnr_db_m12, r.sqnr_db_m40
+            )?;
         }
         if let Some(why) = &self.cmsis_missing {
             writeln!(f, "CMSIS rows missing: {why}")?;

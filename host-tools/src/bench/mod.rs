@@ -1,3 +1,4 @@
 //! Benchmarks reported by `metamoran bench`: figures measured in one run against named baselines.
 
 pub mod fft;
+pub mod m7;

@@ -8,7 +8,14 @@ use std::path::{Path, PathBuf};
 /// Classes whose depth the method estimates.
 pub const OBJECTS_OF_INTEREST: [&str; 3] = ["car", "person", "sign"];
 /// Classes of strong static reflectors that clutter cancellation may remove.
-pub const CLUTTER_CLASSES: [&str; 6] = ["building", "wall", "fence", "pole", "tree", "vehicle_parked"];
+pub const CLUTTER_CLASSES: [&str; 6] = [
+    "building",
+    "wall",
+    "fence",
+    "pole",
+    "tree",
+    "vehicle_parked",
+];
 
 /// One segmented instance.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
@@ -79,35 +86,64 @@ pub fn read_instances(path: &Path) -> Result<Vec<Instance>, InputError> {
     let mut seen = std::collections::BTreeSet::new();
     for (i, inst) in file.instances.iter().enumerate() {
         if inst.id == 0 {
-            return Err(InputError::field(path, format!("instances[{i}].id"), "0 means 'no instance' in the mask; ids start at 1"));
+            return Err(InputError::field(
+                path,
+                format!("instances[{i}].id"),
+                "0 means 'no instance' in the mask; ids start at 1",
+            ));
         }
         if !seen.insert(inst.id) {
-            return Err(InputError::field(path, format!("instances[{i}].id"), format!("id {} is listed twice", inst.id)));
+            return Err(InputError::field(
+                path,
+                format!("instances[{i}].id"),
+                format!("id {} is listed twice", inst.id),
+            ));
         }
-        let ok = !inst.class.is_empty() && inst.class.chars().all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit());
+        let ok = !inst.class.is_empty()
+            && inst
+                .class
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit());
         if !ok {
-            return Err(InputError::field(path, format!("instances[{i}].class"), format!("\"{}\" is not a lowercase word", inst.class)));
+            return Err(InputError::field(
+                path,
+                format!("instances[{i}].class"),
+                format!("\"{}\" is not a lowercase word", inst.class),
+            ));
         }
     }
     Ok(file.instances)
 }
 
 /// Header of a 16-bit grayscale PNG.
-fn check_png16<'b>(path: &Path, bytes: &'b [u8], width: u32, height: u32) -> Result<png::Reader<Cursor<&'b [u8]>>, InputError> {
+fn check_png16<'b>(
+    path: &Path,
+    bytes: &'b [u8],
+    width: u32,
+    height: u32,
+) -> Result<png::Reader<Cursor<&'b [u8]>>, InputError> {
     let mut decoder = png::Decoder::new(Cursor::new(bytes));
     decoder.set_transformations(png::Transformations::IDENTITY);
-    let reader = decoder.read_info().map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))?;
+    let reader = decoder
+        .read_info()
+        .map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))?;
     let info = reader.info();
     if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Sixteen {
         return Err(InputError::file(
             path,
-            format!("is {:?} {:?}-bit; a 16-bit grayscale PNG is required", info.color_type, info.bit_depth as u8),
+            format!(
+                "is {:?} {:?}-bit; a 16-bit grayscale PNG is required",
+                info.color_type, info.bit_depth as u8
+            ),
         ));
     }
     if (info.width, info.height) != (width, height) {
         return Err(InputError::file(
             path,
-            format!("is {}×{} pixels but scene.toml's [camera] says {width}×{height}", info.width, info.height),
+            format!(
+                "is {}×{} pixels but scene.toml's [camera] says {width}×{height}",
+                info.width, info.height
+            ),
         ));
     }
     Ok(reader)
@@ -130,8 +166,13 @@ pub fn read_png16(path: &Path, width: u32, height: u32) -> Result<Vec<u16>, Inpu
     let bytes = read(path)?;
     let mut reader = check_png16(path, &bytes, width, height)?;
     let mut buf = vec![0u8; width as usize * height as usize * 2];
-    reader.next_frame(&mut buf).map_err(|e| InputError::file(path, format!("corrupt PNG data ({e})")))?;
-    Ok(buf.chunks_exact(2).map(|b| u16::from_be_bytes([b[0], b[1]])).collect())
+    reader
+        .next_frame(&mut buf)
+        .map_err(|e| InputError::file(path, format!("corrupt PNG data ({e})")))?;
+    Ok(buf
+        .chunks_exact(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]))
+        .collect())
 }
 
 /// The decoded camera products of one frame.

@@ -10,7 +10,10 @@ mod radar_file;
 mod scene;
 mod truth;
 
-pub use camera::{CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, read_instances, read_png16};
+pub use camera::{
+    CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, read_instances,
+    read_png16,
+};
 pub use radar_file::RadarFile;
 pub use scene::{ADC_LAYOUT, CameraConfig, FORMAT, FramesField, Scene, parse_radar};
 pub use truth::{Ego, Truth, TruthFrame, TruthObject};
@@ -46,7 +49,10 @@ impl Bundle {
     /// [`InputError`] naming the first file and field that break the format.
     pub fn open(dir: &Path, options: OpenOptions) -> Result<Self, InputError> {
         if !dir.is_dir() {
-            return Err(InputError::file(dir, "is not a folder; give the bundle folder that holds scene.toml"));
+            return Err(InputError::file(
+                dir,
+                "is not a folder; give the bundle folder that holds scene.toml",
+            ));
         }
         let scene = Scene::read(&dir.join("scene.toml"))?;
         let radar = RadarFile::open(&scene.adc_file, scene.radar.clone(), options.iq_order)?;
@@ -59,8 +65,18 @@ impl Bundle {
             instances.push(read_instances(&p.instances)?);
         }
         let truth_path = dir.join("truth.json");
-        let truth = if truth_path.exists() { Some(Truth::read(&truth_path, scene.radar.frames)?) } else { None };
-        Ok(Self { dir: dir.to_owned(), scene, truth, instances, radar })
+        let truth = if truth_path.exists() {
+            Some(Truth::read(&truth_path, scene.radar.frames)?)
+        } else {
+            None
+        };
+        Ok(Self {
+            dir: dir.to_owned(),
+            scene,
+            truth,
+            instances,
+            radar,
+        })
     }
 
     /// The bundle folder.
@@ -75,7 +91,9 @@ impl Bundle {
 
     /// The instances of frame `frame` (empty past the last frame).
     pub fn instances(&self, frame: u32) -> &[Instance] {
-        self.instances.get(frame as usize).map_or(&[], Vec::as_slice)
+        self.instances
+            .get(frame as usize)
+            .map_or(&[], Vec::as_slice)
     }
 
     /// Reads the radar samples of frame `frame`; see [`RadarFile::read_frame`].
@@ -96,9 +114,24 @@ impl Bundle {
         let mask = read_png16(&p.mask, w, h)?;
         let depth = read_png16(&p.depth, w, h)?;
         let instances = self.instances(frame).to_vec();
-        if let Some(id) = mask.iter().find(|&&id| id != 0 && !instances.iter().any(|i| i.id == id)) {
-            return Err(InputError::file(&p.mask, format!("holds instance id {id}, which {} does not list", p.instances.display())));
+        if let Some(id) = mask
+            .iter()
+            .find(|&&id| id != 0 && !instances.iter().any(|i| i.id == id))
+        {
+            return Err(InputError::file(
+                &p.mask,
+                format!(
+                    "holds instance id {id}, which {} does not list",
+                    p.instances.display()
+                ),
+            ));
         }
-        Ok(CameraFrame { width: w, height: h, mask, depth, instances })
+        Ok(CameraFrame {
+            width: w,
+            height: h,
+            mask,
+            depth,
+            instances,
+        })
     }
 }

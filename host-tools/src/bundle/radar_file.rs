@@ -60,7 +60,12 @@ impl RadarFile {
                 ),
             ));
         }
-        Ok(Self { path: path.to_owned(), config, order, file })
+        Ok(Self {
+            path: path.to_owned(),
+            config,
+            order,
+            file,
+        })
     }
 
     /// The configuration (with `frames` filled in).
@@ -80,7 +85,13 @@ impl RadarFile {
     /// [`InputError`] if the frame does not exist or the file cannot be read.
     pub fn read_frame(&mut self, frame: u32, out: &mut Vec<CQ15>) -> Result<(), InputError> {
         if frame >= self.config.frames {
-            return Err(InputError::file(&self.path, format!("frame {frame} requested; the capture has {}", self.config.frames)));
+            return Err(InputError::file(
+                &self.path,
+                format!(
+                    "frame {frame} requested; the capture has {}",
+                    self.config.frames
+                ),
+            ));
         }
         let n = self.config.samples_per_frame();
         let mut bytes = vec![0u8; n * 4];
@@ -89,6 +100,7 @@ impl RadarFile {
             .and_then(|_| self.file.read_exact(&mut bytes))
             .map_err(|e| InputError::io(&self.path, e))?;
         out.resize(n, CQ15::default());
-        deinterleave_bytes(&bytes, self.order, out).map_err(|e| InputError::file(&self.path, e.to_string()))
+        deinterleave_bytes(&bytes, self.order, out)
+            .map_err(|e| InputError::file(&self.path, e.to_string()))
     }
 }

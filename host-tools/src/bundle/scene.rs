@@ -58,22 +58,36 @@ impl Scene {
         let root = Fields::root(path, &table);
         let format = root.string("format")?;
         if format != FORMAT {
-            return Err(root.error("format", format!("is \"{format}\"; this reader reads \"{FORMAT}\"")));
+            return Err(root.error(
+                "format",
+                format!("is \"{format}\"; this reader reads \"{FORMAT}\""),
+            ));
         }
         let name = root.string("name")?.to_owned();
         let radar_fields = root.table("radar")?;
         let radar = parse_radar(&radar_fields, FramesField::Required)?;
         let adc_file = radar_fields.string("adc_file")?;
         if adc_file.is_empty() || Path::new(adc_file).is_absolute() {
-            return Err(radar_fields.error("adc_file", "must be a file name relative to the bundle folder"));
+            return Err(radar_fields.error(
+                "adc_file",
+                "must be a file name relative to the bundle folder",
+            ));
         }
         let layout = radar_fields.string("adc_layout")?;
         if layout != ADC_LAYOUT {
-            return Err(radar_fields.error("adc_layout", format!("is \"{layout}\"; version 1 has only \"{ADC_LAYOUT}\"")));
+            return Err(radar_fields.error(
+                "adc_layout",
+                format!("is \"{layout}\"; version 1 has only \"{ADC_LAYOUT}\""),
+            ));
         }
         let camera = parse_camera(&root.table("camera")?)?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        Ok(Self { name, radar, adc_file: dir.join(adc_file), camera })
+        Ok(Self {
+            name,
+            radar,
+            adc_file: dir.join(adc_file),
+            camera,
+        })
     }
 }
 
@@ -99,8 +113,10 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
         }
         Ok(v.into_iter().map(|p| p as i16).collect())
     };
-    let tx_positions = bounded::<_, MAX_TX>(positions("tx_positions")?).ok_or_else(|| list_error("tx_positions", MAX_TX))?;
-    let rx_positions = bounded::<_, MAX_RX>(positions("rx_positions")?).ok_or_else(|| list_error("rx_positions", MAX_RX))?;
+    let tx_positions = bounded::<_, MAX_TX>(positions("tx_positions")?)
+        .ok_or_else(|| list_error("tx_positions", MAX_TX))?;
+    let rx_positions = bounded::<_, MAX_RX>(positions("rx_positions")?)
+        .ok_or_else(|| list_error("rx_positions", MAX_RX))?;
     let order = f.int_list("tx_order", 0, tx_positions.len() as i64 - 1)?;
     if order.is_empty() {
         return Err(f.error("tx_order", "must list at least one transmitter"));
@@ -114,7 +130,10 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
     let max_fft = dsp::fft::MAX_LEN as i64;
     let adc_samples = f.integer("adc_samples", 2, max_fft)?;
     if adc_samples % 2 != 0 {
-        return Err(f.error("adc_samples", format!("{adc_samples} must be even (DCA1000 groups hold two samples)")));
+        return Err(f.error(
+            "adc_samples",
+            format!("{adc_samples} must be even (DCA1000 groups hold two samples)"),
+        ));
     }
     let config = RadarConfig {
         start_frequency_hz: f.positive("start_frequency_hz")?,
@@ -150,9 +169,12 @@ fn bounded<T, const N: usize>(v: Vec<T>) -> Option<heapless::Vec<T, N>> {
 
 fn parse_camera(f: &Fields<'_>) -> Result<CameraConfig, InputError> {
     let translation = f.f64_list("translation_m")?;
-    let translation_m: [f64; 3] = translation
-        .try_into()
-        .map_err(|v: Vec<f64>| f.error("translation_m", format!("has {} entries; give [x, y, z] in metres", v.len())))?;
+    let translation_m: [f64; 3] = translation.try_into().map_err(|v: Vec<f64>| {
+        f.error(
+            "translation_m",
+            format!("has {} entries; give [x, y, z] in metres", v.len()),
+        )
+    })?;
     Ok(CameraConfig {
         width: f.integer("width", 1, 65535)? as u32,
         height: f.integer("height", 1, 65535)? as u32,

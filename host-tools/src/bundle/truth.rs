@@ -72,18 +72,38 @@ impl Truth {
         })?;
         for (i, f) in truth.frames.iter().enumerate() {
             if f.frame >= frames {
-                return Err(InputError::field(path, format!("frames[{i}].frame"), format!("{} but the capture has {frames} frames", f.frame)));
+                return Err(InputError::field(
+                    path,
+                    format!("frames[{i}].frame"),
+                    format!("{} but the capture has {frames} frames", f.frame),
+                ));
             }
             for (j, o) in f.objects.iter().enumerate() {
                 let at = |k: &str| format!("frames[{i}].objects[{j}].{k}");
                 if !(o.depth_m.is_finite() && o.depth_m >= 0.0) {
-                    return Err(InputError::field(path, at("depth_m"), "must be a finite, non-negative number of metres"));
+                    return Err(InputError::field(
+                        path,
+                        at("depth_m"),
+                        "must be a finite, non-negative number of metres",
+                    ));
                 }
                 if !o.azimuth_deg.is_finite() || !o.radial_velocity_mps.is_finite() {
-                    return Err(InputError::field(path, at("azimuth_deg"), "azimuth and velocity must be finite"));
+                    return Err(InputError::field(
+                        path,
+                        at("azimuth_deg"),
+                        "azimuth and velocity must be finite",
+                    ));
                 }
-                if let Some(k) = o.points.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
-                    return Err(InputError::field(path, at(&format!("points[{k}]")), "coordinates must be finite"));
+                if let Some(k) = o
+                    .points
+                    .iter()
+                    .position(|p| p.iter().any(|v| !v.is_finite()))
+                {
+                    return Err(InputError::field(
+                        path,
+                        at(&format!("points[{k}]")),
+                        "coordinates must be finite",
+                    ));
                 }
             }
         }

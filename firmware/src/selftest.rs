@@ -1,0 +1,184 @@
+//! Deterministic DSP workloads and their output fingerprints.
+//!
+//! The firmware prints one line per workload under QEMU; the host test runs [`run`] natively and
+//! requires identical exponents and hashes: the `dsp` crate computes the same bits on the
+//! Cortex-M7 as on x86.
+
+use crate::workload::{Fnv, noise_q15, noise_q31};
+use dsp::array::VirtualArray;
+use dsp::azimuth::beamform;
+use dsp::config::RadarConfig;
+use dsp::detect::{Cfar, CfarKind, Edge};
+use dsp::fft::{Cfft, Complex32, cfft_f32, cfft_q15};
+use dsp::fixed::{CQ15, CQ31, Q15};
+use dsp::range::RangeProcessor;
+use dsp::window::Window;
+
+/// The result of one workload.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outcome {
+    /// Workload name.
+    pub name: &'static str,
+    /// Block exponent (0 where none).
+    pub exponent: u32,
+    /// FNV-1a of the output.
+    pub hash: u32,
+}
+
+fn hash_q15(buf: &[CQ15]) -> u32 {
+    let mut h = Fnv::default();
+    for z in buf {
+        h.bytes(&z.re.0.to_le_bytes());
+        h.bytes(&z.im.0.to_le_bytes());
+    }
+    h.0
+}
+
+fn hash_q31(buf: &[CQ31]) -> u32 {
+    let mut h = Fnv::default();
+    for z in buf {
+        h.u32(z.re.0 as u32);
+        h.u32(z.im.0 as u32);
+    }
+    h.0
+}
+
+/// Runs every workload, calling `emit` with each outcome in a fixed order.
+pub fn run(mut emit: impl FnMut(Outcome)) {
+    const NAMES: [&str; 8] = [
+        "q15_fft_16",
+        "q15_fft_32",
+        "q15_fft_64",
+        "q15_fft_128",
+        "q15_fft_256",
+        "q15_fft_512",
+        "q15_fft_1024",
+        "q15_fft_2048",
+    ];
+    let mut buf = [CQ15::default(); 2048];
+    for (i, name) in NAMES.iter().enumerate() {
+        let n = 16 << i;
+        noise_q15(n as u32, Q15(8192), &mut buf[..n]);
+        let e = cfft_q15(&mut buf[..n]).map_or(u32::MAX, |e| e.0);
+        emit(Outcome {
+            name,
+            exponent: e,
+            hash: hash_q15(&buf[..n]),
+        });
+    }
+    noise_q15(7, Q15(328), &mut buf[..1024]);
+    let e = cfft_q15(&mut buf[..1024]).map_or(u32::MAX, |e| e.0);
+    emit(Outcome {
+        name: "q15_fft_1024_weak",
+        exponent: e,
+        hash: hash_q15(&buf[..1024]),
+    });
+
+    let mut q31 = [CQ31::default(); 256];
+    noise_q31(31, Q15(8192), &mut q31);
+    let e = Cfft::<256>::q31(&mut q31);
+    emit(Outcome {
+        name: "q31_fft_256",
+        exponent: e.0,
+        hash: hash_q31(&q31),
+    });
+
+    let mut f = [Complex32::new(0.0, 0.0); 256];
+    noise_q15(32, Q15(8192), &mut buf[..256]);
+    for (o, z) in f.iter_mut().zip(&buf) {
+        *o = Complex32::new(z.re.to_f32(), z.im.to_f32());
+    }
+    let ok = cfft_f32(&mut f).is_ok();
+    let mut h = Fnv::default();
+    for z in &f {
+        h.u32(z.re.to_bits());
+        h.u32(z.im.to_bits());
+    }
+    emit(Outcome {
+        name: "microfft_f32_256",
+        exponent: u32::from(!ok),
+        hash: h.0,
+    });
+
+    // Range FFT of a Hann-windowed tone at bin 40.5 plus weak noise.
+    let window = Window::<200>::HANN;
+    let mut samples = [CQ15::default(); 200];
+    noise_q15(40, Q15(100), &mut samples);
+    for (n, s) in samples.iter_mut().enumerate() {
+        let t = dsp::trig::expj_neg(dsp::trig::Phase::from_turns(-(40.5 * n as f64) / 256.0));
+        s.re = Q15(s.re.0.saturating_add(t.re.0 / 4));
+        s.im = Q15(s.im.0.saturating_add(t.im.0 / 4));
+    }
+    let mut out = [CQ15::default(); 256];
+    let e = RangeProcessor::new(200, 256, Some(&window))
+        .and_then(|p| p.process(&samples, &mut out))
+        .map_or(u32::MAX, |e| e.0);
+    emit(Outcome {
+        name: "range_hann_200_in_256",
+        exponent: e,
+        hash: hash_q15(&out),
+    });
+
+    // Beamforming over an overlapping, gapped array at several angles.
+    let config = RadarConfig {
+        start_frequency_hz: 77e9,
+        slope_hz_per_s: 30e12,
+        sample_rate_hz: 10e6,
+        adc_samples: 256,
+        chirp_period_s: 60e-6,
+        chirps_per_tx: 16,
+        frames: 1,
+        frame_period_s: 0.1,
+        tx_positions: heapless::Vec::from_slice(&[0, 2, 8]).unwrap_or_default(),
+        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap_or_default(),
+        tx_order: heapless::Vec::from_slice(&[0, 1, 2]).unwrap_or_default(),
+    };
+    let mut h = Fnv::default();
+    if let Ok(array) = VirtualArray::new(&config) {
+        let mut channels = [CQ15::default(); 12];
+        noise_q15(12, Q15(16384), &mut channels);
+        let mut elements = [CQ15::default(); 16];
+        if array.gather(&channels, &mut elements).is_ok() {
+            for s in [-0.9f32, -0.3, 0.0, 0.25, 0.8] {
+                let b = beamform(&array, &elements, s);
+                h.u32(b.re.0 as u32);
+                h.u32(b.im.0 as u32);
+            }
+        }
+    }
+    emit(Outcome {
+        name: "beamform_gapped",
+        exponent: 0,
+        hash: h.0,
+    });
+
+    // OS-CFAR on a magnitude profile.
+    let mut profile = [0f32; 256];
+    for (p, z) in profile.iter_mut().zip(&out) {
+        *p = dsp::doppler::magnitude(*z, dsp::fft::Exponent(0));
+    }
+    let cfar = Cfar {
+        guard: 2,
+        train: 8,
+        scale: 4.0,
+        kind: CfarKind::OrderedStatistic { rank: 0.75 },
+        edge: Edge::Truncate,
+    };
+    let mut h = Fnv::default();
+    let found = cfar
+        .detect(&profile, |d| h.u32(d.index as u32))
+        .unwrap_or(usize::MAX);
+    emit(Outcome {
+        name: "os_cfar_256",
+        exponent: found as u32,
+        hash: h.0,
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_workload_succeeds() {
+        super::run(|o| assert_ne!(o.exponent, u32::MAX, "{}", o.name));
+    }
+}
