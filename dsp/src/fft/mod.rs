@@ -4,8 +4,11 @@
 //! block [`Exponent`]; [`Cfft`] is the same with the length fixed at compile time. [`cfft_f32`]
 //! runs microfft for comparison. Every power of two from 16 to 2048 points is supported.
 
-mod bfp;
 mod float;
+mod q15;
+mod q31;
+mod reorder;
+mod simd;
 pub(crate) mod twiddle;
 
 pub use float::{Complex32, cfft_f32};
@@ -85,7 +88,7 @@ fn check(n: usize) -> Result<(), FftError> {
 /// [`FftError::UnsupportedLength`] unless `buf.len()` is a power of two in `16..=2048`.
 pub fn cfft_q15(buf: &mut [CQ15]) -> Result<Exponent, FftError> {
     check(buf.len())?;
-    Ok(Exponent(bfp::fft_in_place(buf)))
+    Ok(Exponent(q15::fft_in_place(buf)))
 }
 
 /// Forward complex FFT of Q31 samples in place; see [`cfft_q15`].
@@ -94,7 +97,7 @@ pub fn cfft_q15(buf: &mut [CQ15]) -> Result<Exponent, FftError> {
 /// [`FftError::UnsupportedLength`] unless `buf.len()` is a power of two in `16..=2048`.
 pub fn cfft_q31(buf: &mut [CQ31]) -> Result<Exponent, FftError> {
     check(buf.len())?;
-    Ok(Exponent(bfp::fft_in_place(buf)))
+    Ok(Exponent(q31::fft_in_place(buf)))
 }
 
 /// An FFT whose length is checked at compile time.
@@ -116,12 +119,12 @@ impl<const N: usize> Cfft<N> {
     /// Forward Q15 FFT; see [`cfft_q15`].
     pub fn q15(buf: &mut [CQ15; N]) -> Exponent {
         let () = Self::LEN_OK;
-        Exponent(bfp::fft_in_place(buf))
+        Exponent(q15::fft_in_place(buf))
     }
 
     /// Forward Q31 FFT; see [`cfft_q31`].
     pub fn q31(buf: &mut [CQ31; N]) -> Exponent {
         let () = Self::LEN_OK;
-        Exponent(bfp::fft_in_place(buf))
+        Exponent(q31::fft_in_place(buf))
     }
 }

@@ -4,8 +4,11 @@ use super::{Q15, Q31};
 use core::ops::{Add, Sub};
 
 /// A complex value laid out as `re` then `im` (the order of CMSIS-DSP buffers).
+///
+/// Aligned to at least 4 bytes, so a complex Q15 sample is one 32-bit word (`re` in the low
+/// half) that the DSP extension's SIMD instructions load and store whole.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[repr(C)]
+#[repr(C, align(4))]
 pub struct Complex<T> {
     /// Real part (I).
     pub re: T,

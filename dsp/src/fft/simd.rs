@@ -1,0 +1,173 @@
+//! ARMv7E-M DSP-extension SIMD on two `i16` packed in a `u32` (low half = real part).
+//!
+//! On the Cortex-M7 each function is one instruction (stable inline `asm!`); elsewhere it is the
+//! same arithmetic written out in Rust, bit for bit (the firmware self-test checks this on QEMU).
+//! The names are the instructions'. Lanes of the non-saturating ops wrap; callers prove they
+//! cannot overflow.
+
+#[cfg(arm_dsp)]
+mod imp {
+    use core::arch::asm;
+
+    macro_rules! binary {
+        ($($(#[$m:meta])* $name:ident = $ins:literal;)*) => {$(
+            $(#[$m])*
+            #[inline(always)]
+            pub fn $name(a: u32, b: u32) -> u32 {
+                let r: u32;
+                // SAFETY: a register-only DSP instruction; it may set the GE flags, nothing else.
+                unsafe { asm!(concat!($ins, " {r}, {a}, {b}"), r = lateout(reg) r, a = in(reg) a, b = in(reg) b, options(pure, nomem, nostack)) };
+                r
+            }
+        )*};
+    }
+
+    binary! {
+        sadd16 = "sadd16";
+        ssub16 = "ssub16";
+        shadd16 = "shadd16";
+        shsub16 = "shsub16";
+        sasx = "sasx";
+        ssax = "ssax";
+        shasx = "shasx";
+        shsax = "shsax";
+    }
+
+    /// Low half of `a`, high half of `b << 1`.
+    #[inline(always)]
+    pub fn pkhbt_lsl1(a: u32, b: u32) -> u32 {
+        let r: u32;
+        // SAFETY: a register-only instruction without side effects.
+        unsafe {
+            asm!("pkhbt {r}, {a}, {b}, lsl #1", r = lateout(reg) r, a = in(reg) a, b = in(reg) b, options(pure, nomem, nostack, preserves_flags))
+        };
+        r
+    }
+
+    macro_rules! mac {
+        ($($name:ident = $ins:literal;)*) => {$(
+            #[inline(always)]
+            pub fn $name(a: u32, b: u32, acc: i32) -> i32 {
+                let r: i32;
+                // SAFETY: a register-only DSP instruction; it may set the sticky Q flag, nothing else.
+                unsafe { asm!(concat!($ins, " {r}, {a}, {b}, {c}"), r = lateout(reg) r, a = in(reg) a, b = in(reg) b, c = in(reg) acc, options(pure, nomem, nostack)) };
+                r
+            }
+        )*};
+    }
+
+    mac! {
+        smlsd = "smlsd";
+        smladx = "smladx";
+    }
+}
+
+#[cfg(not(arm_dsp))]
+mod imp {
+    #[inline(always)]
+    fn lo(x: u32) -> i32 {
+        x as u16 as i16 as i32
+    }
+    #[inline(always)]
+    fn hi(x: u32) -> i32 {
+        (x >> 16) as u16 as i16 as i32
+    }
+    #[inline(always)]
+    fn pack(lo: i32, hi: i32) -> u32 {
+        (lo as u16 as u32) | ((hi as u16 as u32) << 16)
+    }
+    pub fn sadd16(a: u32, b: u32) -> u32 {
+        pack(lo(a) + lo(b), hi(a) + hi(b))
+    }
+    pub fn ssub16(a: u32, b: u32) -> u32 {
+        pack(lo(a) - lo(b), hi(a) - hi(b))
+    }
+    pub fn shadd16(a: u32, b: u32) -> u32 {
+        pack((lo(a) + lo(b)) >> 1, (hi(a) + hi(b)) >> 1)
+    }
+    pub fn shsub16(a: u32, b: u32) -> u32 {
+        pack((lo(a) - lo(b)) >> 1, (hi(a) - hi(b)) >> 1)
+    }
+    pub fn sasx(a: u32, b: u32) -> u32 {
+        pack(lo(a) - hi(b), hi(a) + lo(b))
+    }
+    pub fn ssax(a: u32, b: u32) -> u32 {
+        pack(lo(a) + hi(b), hi(a) - lo(b))
+    }
+    pub fn shasx(a: u32, b: u32) -> u32 {
+        pack((lo(a) - hi(b)) >> 1, (hi(a) + lo(b)) >> 1)
+    }
+    pub fn shsax(a: u32, b: u32) -> u32 {
+        pack((lo(a) + hi(b)) >> 1, (hi(a) - lo(b)) >> 1)
+    }
+    pub fn pkhbt_lsl1(a: u32, b: u32) -> u32 {
+        (a & 0xFFFF) | ((b << 1) & 0xFFFF_0000)
+    }
+    pub fn smlsd(a: u32, b: u32, acc: i32) -> i32 {
+        (lo(a) * lo(b))
+            .wrapping_sub(hi(a) * hi(b))
+            .wrapping_add(acc)
+    }
+    pub fn smladx(a: u32, b: u32, acc: i32) -> i32 {
+        (lo(a) * hi(b))
+            .wrapping_add(hi(a) * lo(b))
+            .wrapping_add(acc)
+    }
+}
+
+pub use imp::*;
+
+/// `(a + b)` per lane, halved if `HALVE` (`SHADD16` / `SADD16`).
+#[inline(always)]
+pub fn add<const HALVE: bool>(a: u32, b: u32) -> u32 {
+    if HALVE { shadd16(a, b) } else { sadd16(a, b) }
+}
+
+/// `(a − b)` per lane, halved if `HALVE`.
+#[inline(always)]
+pub fn sub<const HALVE: bool>(a: u32, b: u32) -> u32 {
+    if HALVE { shsub16(a, b) } else { ssub16(a, b) }
+}
+
+/// `a − j·b` as complex lanes (re + b.im, im − b.re), halved if `HALVE`.
+#[inline(always)]
+pub fn sub_j<const HALVE: bool>(a: u32, b: u32) -> u32 {
+    if HALVE { shsax(a, b) } else { ssax(a, b) }
+}
+
+/// `a + j·b` as complex lanes (re − b.im, im + b.re), halved if `HALVE`.
+#[inline(always)]
+pub fn add_j<const HALVE: bool>(a: u32, b: u32) -> u32 {
+    if HALVE { shasx(a, b) } else { sasx(a, b) }
+}
+
+/// `a · w` for packed Q15 complex values, rounded to nearest; `|a| · |w| < 2³⁰` keeps the
+/// products exact. Four instructions.
+#[inline(always)]
+pub fn rotate(a: u32, w: u32) -> u32 {
+    let re = smlsd(a, w, 1 << 14) >> 15;
+    let im = smladx(a, w, 1 << 14);
+    pkhbt_lsl1(re as u32, im as u32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(lo: i16, hi: i16) -> u32 {
+        (lo as u16 as u32) | ((hi as u16 as u32) << 16)
+    }
+
+    #[test]
+    fn lane_semantics() {
+        assert_eq!(sadd16(p(1, -2), p(3, 4)), p(4, 2));
+        assert_eq!(ssub16(p(1, -2), p(3, 4)), p(-2, -6));
+        assert_eq!(shadd16(p(3, -3), p(0, 0)), p(1, -2)); // floor
+        assert_eq!(sasx(p(10, 20), p(1, 2)), p(8, 21));
+        assert_eq!(ssax(p(10, 20), p(1, 2)), p(12, 19));
+        assert_eq!(smlsd(p(3, 4), p(5, 6), 7), 3 * 5 - 4 * 6 + 7);
+        assert_eq!(smladx(p(3, 4), p(5, 6), 7), 3 * 6 + 4 * 5 + 7);
+        // (0.5 + 0.25j) · j = −0.25 + 0.5j
+        assert_eq!(rotate(p(16384, 8192), p(0, 32767)), p(-8192, 16384));
+    }
+}
