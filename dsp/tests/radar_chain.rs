@@ -89,6 +89,24 @@ fn cube_of(c: &RadarConfig, frame: &[CQ15]) -> RangeCube<Vec<CQ15>, Vec<Exponent
     cube
 }
 
+/// Index of the largest value.
+fn argmax(x: &[f32]) -> usize {
+    (0..x.len()).max_by(|&a, &b| x[a].total_cmp(&x[b])).unwrap()
+}
+
+/// The range–Doppler map of `cube` without windows.
+fn rd_map(cube: &RangeCube<Vec<CQ15>, Vec<Exponent>>, remove_static: bool) -> Vec<f32> {
+    let nd = cube.loops().next_power_of_two().max(16);
+    let mut scratch = vec![CQ15::default(); nd];
+    let mut map = vec![0f32; cube.bins() * nd];
+    let options = DopplerOptions {
+        remove_static,
+        window: None,
+    };
+    range_doppler_map(cube, &options, &mut scratch, &mut map).unwrap();
+    map
+}
+
 #[test]
 fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
     let c = config();
@@ -114,21 +132,8 @@ fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
         ],
     );
     let cube = cube_of(&c, &frame);
-    let mut scratch = vec![CQ15::default(); nd];
-    let mut map = vec![0f32; nr * nd];
-    range_doppler_map(
-        &cube,
-        &DopplerOptions {
-            remove_static: true,
-            window: None,
-        },
-        &mut scratch,
-        &mut map,
-    )
-    .unwrap();
-    let arg = (0..map.len())
-        .max_by(|&a, &b| map[a].total_cmp(&map[b]))
-        .unwrap();
+    let map = rd_map(&cube, true);
+    let arg = argmax(&map);
     assert_eq!((arg / nd, signed_bin(arg % nd, nd)), (40, -3));
     // The static reflector is ten times stronger, yet after clutter removal it is at the noise floor.
     let static_cell = map[90 * nd];
@@ -144,19 +149,8 @@ fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
         map[arg]
     );
     // Without clutter removal the static target dominates Doppler bin 0.
-    range_doppler_map(
-        &cube,
-        &DopplerOptions {
-            remove_static: false,
-            window: None,
-        },
-        &mut scratch,
-        &mut map,
-    )
-    .unwrap();
-    let arg = (0..map.len())
-        .max_by(|&a, &b| map[a].total_cmp(&map[b]))
-        .unwrap();
+    let map = rd_map(&cube, false);
+    let arg = argmax(&map);
     assert_eq!((arg / nd, arg % nd), (90, 0));
 }
 
@@ -190,9 +184,7 @@ fn azimuth_fft_and_beamformer_find_the_arrival_angle() {
     let mut spec = vec![CQ15::default(); 64];
     azimuth_spectrum(&array, &values, &mut spec).unwrap();
     let mags: Vec<f32> = spec.iter().map(|&z| magnitude(z, Exponent(0))).collect();
-    let k = (0..64)
-        .max_by(|&a, &b| mags[a].total_cmp(&mags[b]))
-        .unwrap();
+    let k = argmax(&mags);
     assert_eq!(signed_bin(k, 64), 5);
     let angle = azimuth_bin_to_angle(AzimuthBin(5.0), 64).unwrap();
     assert!((angle.0 as f64 - sin_az.asin()).abs() < 1e-6);

@@ -80,3 +80,23 @@ pub fn read_text(path: &Path) -> Result<String, InputError> {
     let bytes = read(path)?;
     String::from_utf8(bytes).map_err(|e| InputError::file(path, format!("not UTF-8 text ({e})")))
 }
+
+/// Reads and deserializes a JSON file; a type error names the path of the failing field
+/// (e.g. `frames[0].objects[2].depth_m`).
+pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
+    let bytes = read(path)?;
+    let de = &mut serde_json::Deserializer::from_slice(&bytes);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let field = e.path().to_string();
+        let inner = e.into_inner();
+        if inner.is_syntax() || inner.is_eof() {
+            InputError::Syntax {
+                path: path.to_owned(),
+                format: "JSON",
+                message: inner.to_string(),
+            }
+        } else {
+            InputError::field(path, field, inner.to_string())
+        }
+    })
+}

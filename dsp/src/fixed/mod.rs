@@ -9,6 +9,48 @@ mod complex;
 mod q15;
 mod q31;
 
+/// Saturating `+`, `−` and negation for a fixed-point newtype over a signed integer.
+macro_rules! saturating_ops {
+    ($t:ident) => {
+        impl $t {
+            /// Saturating addition.
+            pub const fn saturating_add(self, rhs: Self) -> Self {
+                Self(self.0.saturating_add(rhs.0))
+            }
+
+            /// Saturating subtraction.
+            pub const fn saturating_sub(self, rhs: Self) -> Self {
+                Self(self.0.saturating_sub(rhs.0))
+            }
+        }
+
+        impl core::ops::Add for $t {
+            type Output = Self;
+            /// Saturating.
+            fn add(self, rhs: Self) -> Self {
+                self.saturating_add(rhs)
+            }
+        }
+
+        impl core::ops::Sub for $t {
+            type Output = Self;
+            /// Saturating.
+            fn sub(self, rhs: Self) -> Self {
+                self.saturating_sub(rhs)
+            }
+        }
+
+        impl core::ops::Neg for $t {
+            type Output = Self;
+            /// Saturating (−MIN gives MAX).
+            fn neg(self) -> Self {
+                Self(self.0.saturating_neg())
+            }
+        }
+    };
+}
+use saturating_ops;
+
 pub use complex::Complex;
 pub use q15::Q15;
 pub use q31::Q31;

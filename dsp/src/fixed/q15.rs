@@ -1,7 +1,5 @@
 //! Signed Q1.15 fractions.
 
-use core::ops::{Add, Neg, Sub};
-
 /// A signed Q1.15 fraction: the value is `self.0 / 32768`, in `[-1, 1 - 2⁻¹⁵]`.
 ///
 /// Arithmetic saturates at the ends of the range.
@@ -35,16 +33,6 @@ impl Q15 {
         self.0 as f32 * (1.0 / 32768.0)
     }
 
-    /// Saturating addition.
-    pub const fn saturating_add(self, rhs: Self) -> Self {
-        Self(self.0.saturating_add(rhs.0))
-    }
-
-    /// Saturating subtraction.
-    pub const fn saturating_sub(self, rhs: Self) -> Self {
-        Self(self.0.saturating_sub(rhs.0))
-    }
-
     /// Saturating multiplication, rounded to nearest (−1 × −1 gives [`Q15::MAX`]).
     pub const fn saturating_mul(self, rhs: Self) -> Self {
         let p = (self.0 as i32 * rhs.0 as i32 + (1 << 14)) >> 15;
@@ -72,26 +60,7 @@ pub(crate) const fn round_saturate(y: f64, lo: f64, hi: f64) -> i64 {
     c as i64
 }
 
-impl Add for Q15 {
-    type Output = Self;
-    fn add(self, rhs: Self) -> Self {
-        self.saturating_add(rhs)
-    }
-}
-
-impl Sub for Q15 {
-    type Output = Self;
-    fn sub(self, rhs: Self) -> Self {
-        self.saturating_sub(rhs)
-    }
-}
-
-impl Neg for Q15 {
-    type Output = Self;
-    fn neg(self) -> Self {
-        Self(self.0.saturating_neg())
-    }
-}
+super::saturating_ops!(Q15);
 
 #[cfg(test)]
 mod tests {

@@ -1,7 +1,6 @@
 //! Signed Q1.31 fractions.
 
 use super::q15::round_saturate;
-use core::ops::{Add, Neg, Sub};
 
 /// A signed Q1.31 fraction: the value is `self.0 / 2³¹`, in `[-1, 1 - 2⁻³¹]`.
 ///
@@ -40,16 +39,6 @@ impl Q31 {
         self.to_f64() as f32
     }
 
-    /// Saturating addition.
-    pub const fn saturating_add(self, rhs: Self) -> Self {
-        Self(self.0.saturating_add(rhs.0))
-    }
-
-    /// Saturating subtraction.
-    pub const fn saturating_sub(self, rhs: Self) -> Self {
-        Self(self.0.saturating_sub(rhs.0))
-    }
-
     /// Saturating multiplication, rounded to nearest (−1 × −1 gives [`Q31::MAX`]).
     pub const fn saturating_mul(self, rhs: Self) -> Self {
         let p = (self.0 as i64 * rhs.0 as i64 + (1 << 30)) >> 31;
@@ -68,26 +57,7 @@ impl From<super::Q15> for Q31 {
     }
 }
 
-impl Add for Q31 {
-    type Output = Self;
-    fn add(self, rhs: Self) -> Self {
-        self.saturating_add(rhs)
-    }
-}
-
-impl Sub for Q31 {
-    type Output = Self;
-    fn sub(self, rhs: Self) -> Self {
-        self.saturating_sub(rhs)
-    }
-}
-
-impl Neg for Q31 {
-    type Output = Self;
-    fn neg(self) -> Self {
-        Self(self.0.saturating_neg())
-    }
-}
+super::saturating_ops!(Q31);
 
 #[cfg(test)]
 mod tests {

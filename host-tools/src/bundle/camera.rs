@@ -1,6 +1,6 @@
 //! Camera products of one frame: instance mask, monocular depth, instance classes.
 
-use crate::error::{InputError, read};
+use crate::error::{InputError, read, read_json};
 use serde::Deserialize;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -77,12 +77,7 @@ impl CameraPaths {
 /// # Errors
 /// [`InputError`] naming the file and field.
 pub fn read_instances(path: &Path) -> Result<Vec<Instance>, InputError> {
-    let bytes = read(path)?;
-    let de = &mut serde_json::Deserializer::from_slice(&bytes);
-    let file: InstancesFile = serde_path_to_error::deserialize(de).map_err(|e| {
-        let field = e.path().to_string();
-        InputError::field(path, field, e.into_inner().to_string())
-    })?;
+    let file: InstancesFile = read_json(path)?;
     let mut seen = std::collections::BTreeSet::new();
     for (i, inst) in file.instances.iter().enumerate() {
         if inst.id == 0 {

@@ -1,6 +1,6 @@
 //! `truth.json`: ground truth per frame (optional in a bundle).
 
-use crate::error::{InputError, read};
+use crate::error::{InputError, read_json};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -64,12 +64,7 @@ impl Truth {
     /// # Errors
     /// [`InputError`] naming the file and field.
     pub fn read(path: &Path, frames: u32) -> Result<Self, InputError> {
-        let bytes = read(path)?;
-        let de = &mut serde_json::Deserializer::from_slice(&bytes);
-        let truth: Truth = serde_path_to_error::deserialize(de).map_err(|e| {
-            let field = e.path().to_string();
-            InputError::field(path, field, e.into_inner().to_string())
-        })?;
+        let truth: Truth = read_json(path)?;
         for (i, f) in truth.frames.iter().enumerate() {
             if f.frame >= frames {
                 return Err(InputError::field(
