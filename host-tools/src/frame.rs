@@ -12,6 +12,9 @@ use dsp::range::{RangeCube, RangeProcessor};
 use dsp::units::{AzimuthBin, Radians, signed_bin};
 use dsp::window::{self, WindowKind};
 
+/// Shortest axis that gets a window; shorter ones are processed rectangular.
+pub const MIN_WINDOW_LEN: usize = 8;
+
 /// Processing choices.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameOptions {
@@ -96,8 +99,11 @@ impl FrameProcessor {
         &self.array
     }
 
+    /// The window table to use, if any. Symmetric windows shorter than
+    /// [`MIN_WINDOW_LEN`] are (nearly) all zero (a 2-point Hann is `[0, 0]`), so short axes
+    /// stay rectangular.
     fn window_of(kind: WindowKind, table: &[Q15]) -> Option<&[Q15]> {
-        (kind != WindowKind::Rectangular).then_some(table)
+        (kind != WindowKind::Rectangular && table.len() >= MIN_WINDOW_LEN).then_some(table)
     }
 
     fn doppler_options(&self, remove_static: bool) -> DopplerOptions<'_> {

@@ -8,8 +8,10 @@ pub mod capture;
 pub mod error;
 pub mod fields;
 pub mod frame;
+pub mod geometry;
 pub mod oracle;
 pub mod qemu;
+pub mod sim;
 pub mod summary;
 
 /// Where the shared data folder (`shared/`, beside the repository) is: `$METAMORAN_SHARED` or

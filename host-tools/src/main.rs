@@ -54,6 +54,27 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
+    #[command(
+        after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes"
+    )]
+    Simulate {
+        /// Scene preset.
+        #[arg(long, value_enum)]
+        preset: host_tools::sim::layout::Preset,
+        /// Run seed (the same seed gives the same scenes).
+        #[arg(long)]
+        seed: u64,
+        /// Output folder; scenes go to OUT/<preset>-<seed>-<index>.
+        #[arg(long)]
+        out: PathBuf,
+        /// Number of scenes.
+        #[arg(long, default_value_t = 1)]
+        count: u64,
+        /// Simulated radar board.
+        #[arg(long, value_enum, default_value = "cascade")]
+        radar: host_tools::sim::radar::RadarKind,
+    },
     /// Run the main job on built-in data (for now: summarize a real TI capture from shared/).
     #[command(after_help = "Example:\n  metamoran demo")]
     Demo {
@@ -141,6 +162,17 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let mut file = open_capture(&path, config.as_deref(), iq_order.into())?;
             print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
+        }
+        Command::Simulate {
+            preset,
+            seed,
+            out,
+            count,
+            radar,
+        } => {
+            let dirs = host_tools::sim::simulate(preset, radar, seed, count, &out, true)?;
+            eprintln!("wrote {} bundle(s) to {}", dirs.len(), out.display());
+            Ok(())
         }
         Command::Demo { json } => {
             let capture = host_tools::shared_dir().join(DEMO_CAPTURE);

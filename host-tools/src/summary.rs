@@ -40,7 +40,7 @@ pub struct RangePeak {
     pub bin: usize,
     /// Interpolated range, m.
     pub range_m: f32,
-    /// Mean magnitude, dB relative to full scale.
+    /// Mean magnitude, dB relative to a full-scale tone (which reads 0 dBFS without a window).
     pub level_dbfs: f32,
     /// Azimuth of the static scene at this range, degrees (None: outside the visible region).
     pub azimuth_deg: Option<f32>,
@@ -144,7 +144,7 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             range_peaks.push(RangePeak {
                 bin: k,
                 range_m: config.bin_to_range(RangeBin(k as f32 + off), nr).0,
-                level_dbfs: db(profile[k]),
+                level_dbfs: db(profile[k] / config.adc_samples as f32),
                 azimuth_deg: az.map(|a| a.to_degrees()),
             });
         }

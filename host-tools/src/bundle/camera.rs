@@ -1,7 +1,7 @@
 //! Camera products of one frame: instance mask, monocular depth, instance classes.
 
 use crate::error::{InputError, read, read_json};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -18,7 +18,7 @@ pub const CLUTTER_CLASSES: [&str; 6] = [
 ];
 
 /// One segmented instance.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Instance {
     /// Id used in the mask (1..=65535).

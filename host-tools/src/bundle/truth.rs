@@ -1,11 +1,11 @@
 //! `truth.json`: ground truth per frame (optional in a bundle).
 
 use crate::error::{InputError, read_json};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Ground truth of a capture.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Truth {
     /// One entry per frame.
@@ -13,7 +13,7 @@ pub struct Truth {
 }
 
 /// Ground truth of one frame.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TruthFrame {
     /// Frame number.
@@ -25,7 +25,7 @@ pub struct TruthFrame {
 }
 
 /// Platform pose and velocity.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Ego {
     /// Position x, m.
@@ -41,7 +41,7 @@ pub struct Ego {
 }
 
 /// One object's truth.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TruthObject {
     /// Instance id in the camera products.

@@ -1,0 +1,205 @@
+//! The scene simulator behind `metamoran simulate`: layouts → scatterers → FMCW samples and
+//! camera products → bundles (bundle.md), with ground truth.
+//!
+//! * [`layout`]: presets and where things go; [`object`] and [`shape`]: what they are;
+//! * [`signal`]: the radar signal model; [`camera`]: rendering and the monocular model;
+//! * [`radar`]: the simulated boards; [`writer`]: the bundle files.
+
+pub mod camera;
+pub mod layout;
+pub mod object;
+pub mod radar;
+pub mod shape;
+pub mod signal;
+pub mod writer;
+
+use crate::bundle::{CameraConfig, Ego, Instance, Truth, TruthFrame, TruthObject};
+use crate::geometry::CameraModel;
+use layout::Preset;
+use object::{GROUND_Y, Scatterer};
+use radar::RadarKind;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// The simulated camera: 640 × 360, 65° horizontal field of view, 15 cm above the radar.
+pub fn camera_config() -> CameraConfig {
+    CameraConfig {
+        width: 640,
+        height: 360,
+        fx: 500.0,
+        fy: 500.0,
+        cx: 320.0,
+        cy: 180.0,
+        translation_m: [0.0, -0.15, 0.0],
+        yaw_deg: 0.0,
+        pitch_deg: 0.0,
+        roll_deg: 0.0,
+    }
+}
+
+/// Diffuse ground clutter: random scatterers on the ground plane inside the radar's view.
+fn ground(rng: &mut impl Rng, max_range: f64) -> Vec<Scatterer> {
+    const POINTS: usize = 300;
+    let area = std::f64::consts::PI / 3.0 * max_range * max_range / POINTS as f64;
+    (0..POINTS)
+        .map(|_| {
+            let r = max_range * rng.random_range(0.0f64..1.0).sqrt().max(0.03);
+            let az = rng.random_range(-60f64..60.0).to_radians();
+            Scatterer {
+                position: nalgebra::Vector3::new(r * az.sin(), GROUND_Y, r * az.cos()),
+                rcs: 0.003 * area * rng.random_range(0.2..1.8),
+                phase: rng.random_range(0.0..std::f64::consts::TAU),
+            }
+        })
+        .collect()
+}
+
+/// One scene's seed from the run seed and the scene index (SplitMix64).
+fn scene_seed(seed: u64, index: u64) -> u64 {
+    let mut z = seed ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Simulates scene `index` of a run and writes it into `dir`.
+///
+/// # Errors
+/// A message naming the file that could not be written.
+pub fn simulate_one(
+    preset: Preset,
+    kind: RadarKind,
+    seed: u64,
+    index: u64,
+    dir: &Path,
+) -> Result<(), String> {
+    let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
+    let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
+    let loops = if preset == Preset::Moving { 16 } else { 2 };
+    let config = radar::config(kind, radar::max_range_for(deepest), loops);
+    let extra = ground(&mut rng, config.max_range().0 as f64);
+    let echoes = signal::echoes(&layout.objects, &extra, &config);
+    let adc = signal::synthesize(&config, &echoes, &mut rng);
+    let camera = camera_config();
+    let model = CameraModel::new(&camera);
+    let render = camera::render(&model, &layout.objects);
+    let products = camera::products(&render, camera.width, camera.height, &mut rng);
+    let visible: std::collections::BTreeSet<u16> =
+        products.mask.iter().copied().filter(|&i| i != 0).collect();
+    let instances: Vec<Instance> = layout
+        .objects
+        .iter()
+        .filter(|o| visible.contains(&o.id))
+        .map(|o| Instance {
+            id: o.id,
+            class: o.class.to_owned(),
+        })
+        .collect();
+    let objects = layout
+        .objects
+        .iter()
+        .filter(|o| visible.contains(&o.id) && matches!(o.class, "car" | "person" | "sign"))
+        .map(|o| {
+            let c = o.shape.closest_point();
+            let centre = o.centre();
+            let pixels: Vec<usize> = (0..render.ids.len())
+                .filter(|&i| render.ids[i] == o.id)
+                .collect();
+            let step = pixels.len().div_ceil(1500).max(1);
+            let points = pixels
+                .iter()
+                .step_by(step)
+                .map(|&i| {
+                    let (u, v) = (
+                        (i % camera.width as usize) as u32,
+                        (i / camera.width as usize) as u32,
+                    );
+                    let p = model.back_project(u, v, render.depth[i]);
+                    [
+                        (p.x * 1000.0).round() / 1000.0,
+                        (p.y * 1000.0).round() / 1000.0,
+                        (p.z * 1000.0).round() / 1000.0,
+                    ]
+                })
+                .collect();
+            let cp = nalgebra::Vector3::new(centre[0], 0.0, centre[1]);
+            TruthObject {
+                instance: o.id,
+                class: o.class.to_owned(),
+                depth_m: c[0].hypot(c[1]),
+                azimuth_deg: centre[0].atan2(centre[1]).to_degrees(),
+                radial_velocity_mps: o.radial_velocity(&cp),
+                points,
+            }
+        })
+        .collect();
+    let truth = Truth {
+        frames: vec![TruthFrame {
+            frame: 0,
+            ego: Ego {
+                x: 0.0,
+                z: 0.0,
+                yaw: 0.0,
+                vx: 0.0,
+                vz: 0.0,
+            },
+            objects,
+        }],
+    };
+    let name = dir
+        .file_name()
+        .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
+    writer::write(
+        dir,
+        &writer::BundleContents {
+            name: &name,
+            radar: &config,
+            camera: &camera,
+            adc: &adc,
+            mask: &products.mask,
+            depth: &products.depth_png,
+            instances: &instances,
+            truth: &truth,
+        },
+    )
+}
+
+/// Simulates `count` scenes in parallel into `out/<preset>-<seed>-<index>`; returns the folders.
+///
+/// # Errors
+/// The first scene that could not be written.
+pub fn simulate(
+    preset: Preset,
+    kind: RadarKind,
+    seed: u64,
+    count: u64,
+    out: &Path,
+    progress: bool,
+) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create the folder ({e})", out.display()))?;
+    let bar = if progress {
+        indicatif::ProgressBar::new(count)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{msg} [{bar:40}] {pos}/{len} scenes, {elapsed} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("simulating {}", preset.name()));
+    let dirs: Vec<PathBuf> = (0..count)
+        .map(|k| out.join(format!("{}-{seed}-{k:04}", preset.name())))
+        .collect();
+    dirs.par_iter().enumerate().try_for_each(|(k, dir)| {
+        let r = simulate_one(preset, kind, seed, k as u64, dir);
+        bar.inc(1);
+        r
+    })?;
+    bar.finish();
+    Ok(dirs)
+}
