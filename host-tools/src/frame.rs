@@ -168,6 +168,79 @@ impl FrameProcessor {
         })
     }
 
+    /// Channel values of range bin `bin` at Doppler index `doppler` of the last frame, aligned to
+    /// one exponent (index 0 without static removal is the sum over loops: the static scene).
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn channel_values(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<(Vec<CQ15>, Exponent), String> {
+        let channels = self.array.channels();
+        let mut values = Vec::with_capacity(channels);
+        let mut exps = Vec::with_capacity(channels);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut result = Ok(());
+        for ch in 0..channels {
+            match doppler_column(
+                &self.cube,
+                ch,
+                bin,
+                &self.doppler_options(remove_static),
+                &mut scratch,
+            ) {
+                Ok(e) => match scratch.get(doppler) {
+                    Some(&z) => {
+                        values.push(z);
+                        exps.push(e.0);
+                    }
+                    None => result = Err(format!("Doppler index {doppler} out of range")),
+                },
+                Err(e) => result = Err(e.to_string()),
+            }
+            if result.is_err() {
+                break;
+            }
+        }
+        self.scratch = scratch;
+        result?;
+        let top = exps.iter().copied().max().unwrap_or(0);
+        Ok((
+            values
+                .iter()
+                .zip(&exps)
+                .map(|(z, &e)| z.scale_down(top - e))
+                .collect(),
+            Exponent(top),
+        ))
+    }
+
+    /// Azimuth FFT length used for this array: 4× oversampled, at least 64 points.
+    pub fn azimuth_len(&self) -> usize {
+        fft::padded_len((4 * self.array.span()).max(64)).unwrap_or(fft::MAX_LEN)
+    }
+
+    /// |azimuth spectrum| (natural FFT order, [`Self::azimuth_len`] points) of range bin `bin`
+    /// at Doppler index `doppler` of the last frame, in full-scale units.
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn azimuth_profile(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<Vec<f32>, String> {
+        let (values, exp) = self.channel_values(bin, doppler, remove_static)?;
+        let mut spec = vec![CQ15::default(); self.azimuth_len()];
+        let e = azimuth_spectrum(&self.array, &values, &mut spec).map_err(|e| e.to_string())?;
+        let scale = Exponent(exp.0 + e.0);
+        Ok(spec.iter().map(|&z| magnitude(z, scale)).collect())
+    }
+
     /// Azimuth of the strongest direction at range bin `bin`, Doppler index `doppler` (natural
     /// FFT order; index 0 without static removal is the static scene) of the last processed
     /// frame, by a zero-padded azimuth FFT with quadratic interpolation. `None` if the peak lies
@@ -181,43 +254,8 @@ impl FrameProcessor {
         doppler: usize,
         remove_static: bool,
     ) -> Result<Option<Radians>, String> {
-        let channels = self.array.channels();
-        let mut values = Vec::with_capacity(channels);
-        let mut exps = Vec::with_capacity(channels);
-        let mut scratch = std::mem::take(&mut self.scratch);
-        for ch in 0..channels {
-            let r = doppler_column(
-                &self.cube,
-                ch,
-                bin,
-                &self.doppler_options(remove_static),
-                &mut scratch,
-            );
-            let exp = match r {
-                Ok(e) => e,
-                Err(e) => {
-                    self.scratch = scratch;
-                    return Err(e.to_string());
-                }
-            };
-            values.push(
-                *scratch
-                    .get(doppler)
-                    .ok_or_else(|| format!("Doppler index {doppler} out of range"))?,
-            );
-            exps.push(exp.0);
-        }
-        self.scratch = scratch;
-        let top = exps.iter().copied().max().unwrap_or(0);
-        let aligned: Vec<CQ15> = values
-            .iter()
-            .zip(&exps)
-            .map(|(z, &e)| z.scale_down(top - e))
-            .collect();
-        let na = fft::padded_len((4 * self.array.span()).max(64)).unwrap_or(fft::MAX_LEN);
-        let mut spec = vec![CQ15::default(); na];
-        azimuth_spectrum(&self.array, &aligned, &mut spec).map_err(|e| e.to_string())?;
-        let mag: Vec<f32> = spec.iter().map(|&z| magnitude(z, Exponent(0))).collect();
+        let mag = self.azimuth_profile(bin, doppler, remove_static)?;
+        let na = mag.len();
         let k = (0..na)
             .max_by(|&a, &b| mag[a].total_cmp(&mag[b]))
             .unwrap_or(0);

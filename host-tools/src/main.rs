@@ -54,6 +54,42 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Estimate each object of interest's depth in every frame of a scene bundle (cli.md).
+    #[command(
+        after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json"
+    )]
+    Process {
+        /// The bundle folder.
+        bundle: PathBuf,
+        /// Method.
+        #[arg(long, value_enum, default_value = "metamoran")]
+        mode: host_tools::process::Mode,
+        /// I/Q order of radar.bin.
+        #[arg(long, value_enum, default_value = "iiqq")]
+        iq_order: IqArg,
+        /// Print the JSON document (cli.md) instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Evaluate methods on every bundle in a folder against its truth (Table-I-like report).
+    #[command(
+        after_help = "Example:\n  metamoran simulate --preset parking-lot --seed 11 --out eval --count 60\n  metamoran eval eval --modes naive,monocular"
+    )]
+    Eval {
+        /// Folder of bundle folders.
+        dir: PathBuf,
+        /// Methods to evaluate.
+        #[arg(
+            long,
+            value_enum,
+            value_delimiter = ',',
+            default_value = "naive,monocular"
+        )]
+        modes: Vec<host_tools::process::Mode>,
+        /// Print JSON instead of tables.
+        #[arg(long)]
+        json: bool,
+    },
     /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
     #[command(
         after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes"
@@ -162,6 +198,57 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let mut file = open_capture(&path, config.as_deref(), iq_order.into())?;
             print(&summarize(&mut file).map_err(|e| e.to_string())?, json)
+        }
+        Command::Process {
+            bundle,
+            mode,
+            iq_order,
+            json,
+        } => {
+            let out = host_tools::process::process(
+                &bundle,
+                mode,
+                OpenOptions {
+                    iq_order: iq_order.into(),
+                },
+            )?;
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string(&out).map_err(|e| e.to_string())?
+                );
+            } else {
+                for f in &out.frames {
+                    for o in &f.objects {
+                        let depth = o
+                            .depth_m
+                            .map_or("not detected".to_owned(), |d| format!("{d:.3} m"));
+                        let az = o
+                            .azimuth_deg
+                            .map_or(String::new(), |a| format!(" at {a:+.1}°"));
+                        println!(
+                            "frame {} {:<7} #{:<3} {depth}{az} ({} points)",
+                            f.frame,
+                            o.class,
+                            o.instance,
+                            o.points.len()
+                        );
+                    }
+                }
+            }
+            Ok(())
+        }
+        Command::Eval { dir, modes, json } => {
+            let (report, _) = host_tools::eval::run(&dir, &modes, !json)?;
+            print(&report, json)?;
+            if report.failed.is_empty() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{} bundle(s) failed; see above",
+                    report.failed.len()
+                ))
+            }
         }
         Command::Simulate {
             preset,

@@ -93,3 +93,100 @@ fn moving_reflector_lands_in_its_doppler_bin() {
         }
     }
 }
+
+#[test]
+fn written_bundle_reads_back_exactly() {
+    use host_tools::bundle::{Bundle, OpenOptions};
+    use host_tools::sim::{layout::Preset, simulate_one, simulate_scene};
+    let tmp = tempfile::tempdir().unwrap();
+    for (preset, kind) in [
+        (Preset::ParkingLot, RadarKind::Cascade),
+        (Preset::Moving, RadarKind::Xwr18xx),
+    ] {
+        let dir = tmp.path().join(format!("{preset:?}"));
+        simulate_one(preset, kind, 42, 3, &dir).unwrap();
+        let scene = simulate_scene(preset, kind, 42, 3); // deterministic: the same scene again
+        let mut b = Bundle::open(&dir, OpenOptions::default()).unwrap();
+        assert_eq!(b.scene.radar, scene.radar);
+        let mut got = Vec::new();
+        b.read_radar_frame(0, &mut got).unwrap();
+        let mut want = vec![CQ15::default(); scene.radar.samples_per_frame()];
+        deinterleave_bytes(&scene.adc, IqOrder::Iiqq, &mut want).unwrap();
+        assert_eq!(got, want);
+        let cam = b.camera_frame(0).unwrap();
+        assert_eq!(cam.mask, scene.products.mask);
+        assert_eq!(cam.depth, scene.products.depth_png);
+        assert_eq!(
+            b.truth.unwrap().frames[0].objects.len(),
+            scene.truth.frames[0].objects.len()
+        );
+    }
+}
+
+#[test]
+fn rendered_mask_spans_the_objects_geometry() {
+    use host_tools::geometry::{CameraModel, azimuth};
+    use host_tools::sim::{layout::Preset, shape::Shape, simulate_scene};
+    let mut checked = 0;
+    for index in 0..8 {
+        let scene = simulate_scene(Preset::ParkingLot, RadarKind::Cascade, 9, index);
+        let model = CameraModel::new(&scene.camera);
+        for o in scene
+            .objects
+            .iter()
+            .filter(|o| matches!(o.class, "car" | "person" | "sign"))
+        {
+            // Azimuth extremes of the footprint (camera and radar share x and z here).
+            let footprint: Vec<[f64; 2]> = match o.shape {
+                Shape::Cylinder { centre, radius, .. } => (0..360)
+                    .map(|d| {
+                        let a = f64::to_radians(d as f64);
+                        [centre[0] + radius * a.sin(), centre[1] + radius * a.cos()]
+                    })
+                    .collect(),
+                _ => o
+                    .shape
+                    .segments()
+                    .iter()
+                    .flat_map(|(a, b)| {
+                        (0..=20).map(move |k| {
+                            let s = k as f64 / 20.0;
+                            [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
+                        })
+                    })
+                    .collect(),
+            };
+            let geo: Vec<f64> = footprint.iter().map(|p| p[0].atan2(p[1])).collect();
+            let (glo, ghi) = (
+                geo.iter().copied().fold(9.0, f64::min),
+                geo.iter().copied().fold(-9.0, f64::max),
+            );
+            let px: Vec<f64> = (0..scene.render.ids.len())
+                .filter(|&i| scene.render.ids[i] == o.id)
+                .map(|i| {
+                    azimuth(&model.back_project(
+                        (i % 640) as u32,
+                        (i / 640) as u32,
+                        scene.render.depth[i],
+                    ))
+                })
+                .collect();
+            if px.len() < 20 {
+                continue; // partly hidden or tiny: its span is not the footprint's
+            }
+            let (lo, hi) = (
+                px.iter().copied().fold(9.0, f64::min),
+                px.iter().copied().fold(-9.0, f64::max),
+            );
+            let pixel = 1.5 / 500.0; // angular size of 1.5 pixels
+            assert!(
+                (lo - glo).abs() < pixel && (hi - ghi).abs() < pixel,
+                "{} #{}: mask {lo:.4}..{hi:.4} vs geometry {glo:.4}..{ghi:.4}",
+                o.class,
+                o.id
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 5, "only {checked} objects checked");
+}

@@ -64,17 +64,28 @@ fn scene_seed(seed: u64, index: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Simulates scene `index` of a run and writes it into `dir`.
-///
-/// # Errors
-/// A message naming the file that could not be written.
-pub fn simulate_one(
-    preset: Preset,
-    kind: RadarKind,
-    seed: u64,
-    index: u64,
-    dir: &Path,
-) -> Result<(), String> {
+/// A simulated scene, in memory.
+pub struct SimulatedScene {
+    /// The objects (ids as in the camera products).
+    pub objects: Vec<object::SceneObject>,
+    /// Radar configuration.
+    pub radar: dsp::config::RadarConfig,
+    /// Camera configuration.
+    pub camera: CameraConfig,
+    /// `radar.bin` bytes (one frame).
+    pub adc: Vec<u8>,
+    /// The rendered truth (ids and camera depth per pixel).
+    pub render: camera::Render,
+    /// Segmenter and monocular-depth outputs.
+    pub products: camera::CameraProducts,
+    /// Instances of frame 0.
+    pub instances: Vec<Instance>,
+    /// Ground truth.
+    pub truth: Truth,
+}
+
+/// Simulates scene `index` of a run with seed `seed`.
+pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
@@ -101,39 +112,7 @@ pub fn simulate_one(
         .objects
         .iter()
         .filter(|o| visible.contains(&o.id) && matches!(o.class, "car" | "person" | "sign"))
-        .map(|o| {
-            let c = o.shape.closest_point();
-            let centre = o.centre();
-            let pixels: Vec<usize> = (0..render.ids.len())
-                .filter(|&i| render.ids[i] == o.id)
-                .collect();
-            let step = pixels.len().div_ceil(1500).max(1);
-            let points = pixels
-                .iter()
-                .step_by(step)
-                .map(|&i| {
-                    let (u, v) = (
-                        (i % camera.width as usize) as u32,
-                        (i / camera.width as usize) as u32,
-                    );
-                    let p = model.back_project(u, v, render.depth[i]);
-                    [
-                        (p.x * 1000.0).round() / 1000.0,
-                        (p.y * 1000.0).round() / 1000.0,
-                        (p.z * 1000.0).round() / 1000.0,
-                    ]
-                })
-                .collect();
-            let cp = nalgebra::Vector3::new(centre[0], 0.0, centre[1]);
-            TruthObject {
-                instance: o.id,
-                class: o.class.to_owned(),
-                depth_m: c[0].hypot(c[1]),
-                azimuth_deg: centre[0].atan2(centre[1]).to_degrees(),
-                radial_velocity_mps: o.radial_velocity(&cp),
-                points,
-            }
-        })
+        .map(|o| truth_object(o, &render, &model, &camera))
         .collect();
     let truth = Truth {
         frames: vec![TruthFrame {
@@ -148,6 +127,67 @@ pub fn simulate_one(
             objects,
         }],
     };
+    SimulatedScene {
+        objects: layout.objects,
+        radar: config,
+        camera,
+        adc,
+        render,
+        products,
+        instances,
+        truth,
+    }
+}
+
+/// Truth of one object: depth of its closest footprint point, azimuth and radial velocity of
+/// its centre, and a lidar-like sample of its visible surface (from the rendered pixels).
+fn truth_object(
+    o: &object::SceneObject,
+    render: &camera::Render,
+    model: &CameraModel,
+    camera: &CameraConfig,
+) -> TruthObject {
+    let c = o.shape.closest_point();
+    let centre = o.centre();
+    let pixels: Vec<usize> = (0..render.ids.len())
+        .filter(|&i| render.ids[i] == o.id)
+        .collect();
+    let step = pixels.len().div_ceil(1500).max(1);
+    let mm = |v: f64| (v * 1000.0).round() / 1000.0;
+    let points = pixels
+        .iter()
+        .step_by(step)
+        .map(|&i| {
+            let (u, v) = (
+                (i % camera.width as usize) as u32,
+                (i / camera.width as usize) as u32,
+            );
+            let p = model.back_project(u, v, render.depth[i]);
+            [mm(p.x), mm(p.y), mm(p.z)]
+        })
+        .collect();
+    TruthObject {
+        instance: o.id,
+        class: o.class.to_owned(),
+        depth_m: c[0].hypot(c[1]),
+        azimuth_deg: centre[0].atan2(centre[1]).to_degrees(),
+        radial_velocity_mps: o.radial_velocity(&nalgebra::Vector3::new(centre[0], 0.0, centre[1])),
+        points,
+    }
+}
+
+/// Simulates scene `index` of a run and writes it into `dir`.
+///
+/// # Errors
+/// A message naming the file that could not be written.
+pub fn simulate_one(
+    preset: Preset,
+    kind: RadarKind,
+    seed: u64,
+    index: u64,
+    dir: &Path,
+) -> Result<(), String> {
+    let s = simulate_scene(preset, kind, seed, index);
     let name = dir
         .file_name()
         .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
@@ -155,13 +195,13 @@ pub fn simulate_one(
         dir,
         &writer::BundleContents {
             name: &name,
-            radar: &config,
-            camera: &camera,
-            adc: &adc,
-            mask: &products.mask,
-            depth: &products.depth_png,
-            instances: &instances,
-            truth: &truth,
+            radar: &s.radar,
+            camera: &s.camera,
+            adc: &s.adc,
+            mask: &s.products.mask,
+            depth: &s.products.depth_png,
+            instances: &s.instances,
+            truth: &s.truth,
         },
     )
 }

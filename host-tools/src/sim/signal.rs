@@ -18,7 +18,7 @@ pub const GAIN: f64 = 3.0e4;
 /// Thermal noise, standard deviation per I and Q component, LSB.
 pub const NOISE_LSB: f64 = 2.0;
 /// Elevation beam (1σ), degrees: the narrow beam that lets ground clutter in only far away.
-pub const ELEVATION_BEAM_DEG: f64 = 7.0;
+pub const ELEVATION_BEAM_DEG: f64 = 4.0;
 
 /// One scatterer as the radar sees it.
 #[derive(Clone, Copy, Debug)]

@@ -1,0 +1,146 @@
+//! `metamoran process`: per-frame estimates of each object of interest's depth, azimuth and
+//! depth-image points, in the JSON shape of `shared/spec/cli.md`.
+//!
+//! The radar side runs the module's `dsp` code ([`crate::frame`]); the camera side reads the
+//! bundle's mask and monocular depth ([`camera_points`]).
+
+pub mod camera_points;
+pub mod monocular;
+pub mod naive;
+
+use crate::bundle::{Bundle, OpenOptions};
+use crate::frame::{FrameOptions, FrameProcessor};
+use crate::geometry::{CameraModel, Point};
+use camera_points::{CameraObject, objects_of_interest};
+use clap::ValueEnum;
+use dsp::window::WindowKind;
+use serde::Serialize;
+use std::path::Path;
+
+/// A processing method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Camera-guided shape correlation with clutter cancellation, then depth imaging.
+    Metamoran,
+    /// Strongest range–azimuth reflector inside the mask's azimuth span.
+    Naive,
+    /// The closest masked monocular depth point.
+    Monocular,
+}
+
+impl Mode {
+    /// The name used on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Metamoran => "metamoran",
+            Mode::Naive => "naive",
+            Mode::Monocular => "monocular",
+        }
+    }
+}
+
+/// One object's estimate (cli.md).
+#[derive(Clone, Debug, Serialize)]
+pub struct ObjectResult {
+    /// Instance id.
+    pub instance: u16,
+    /// Class word.
+    pub class: String,
+    /// Whether the method found something it trusts.
+    pub detected: bool,
+    /// Range of the object's closest point, m (`null` when not detected).
+    pub depth_m: Option<f64>,
+    /// Azimuth, degrees (`null` when unknown).
+    pub azimuth_deg: Option<f64>,
+    /// Depth image as points in the radar frame, m.
+    pub points: Vec<[f64; 3]>,
+}
+
+impl ObjectResult {
+    /// A detection at `depth` (m) and `azimuth` (rad) with its points.
+    pub fn found(obj: &CameraObject, depth: f64, azimuth: Option<f64>, points: Vec<Point>) -> Self {
+        let mm = |v: f64| (v * 1000.0).round() / 1000.0;
+        Self {
+            instance: obj.instance,
+            class: obj.class.clone(),
+            detected: true,
+            depth_m: Some(mm(depth)),
+            azimuth_deg: azimuth.map(|a| (a.to_degrees() * 100.0).round() / 100.0),
+            points: points.iter().map(|p| [mm(p.x), mm(p.y), mm(p.z)]).collect(),
+        }
+    }
+
+    /// Nothing trusted for this object.
+    pub fn missed(obj: &CameraObject) -> Self {
+        Self {
+            instance: obj.instance,
+            class: obj.class.clone(),
+            detected: false,
+            depth_m: None,
+            azimuth_deg: None,
+            points: Vec::new(),
+        }
+    }
+}
+
+/// One frame's estimates.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameResult {
+    /// Frame number.
+    pub frame: u32,
+    /// One entry per object-of-interest instance, in id order.
+    pub objects: Vec<ObjectResult>,
+}
+
+/// The whole output of `process --json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProcessOutput {
+    /// The mode that produced it.
+    pub mode: Mode,
+    /// Per frame.
+    pub frames: Vec<FrameResult>,
+}
+
+/// Processes every frame of the bundle in `dir` with `mode`.
+///
+/// # Errors
+/// A message naming the file and field of a bad bundle, or why the mode cannot run.
+pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOutput, String> {
+    if mode == Mode::Metamoran {
+        return Err("mode `metamoran` is not built yet (it is the next issue); use --mode naive or --mode monocular".into());
+    }
+    let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
+    let camera = CameraModel::new(&bundle.scene.camera);
+    let frame_options = FrameOptions {
+        range_window: WindowKind::Hann,
+        doppler_window: WindowKind::Rectangular,
+        remove_static: false,
+    };
+    let mut proc = FrameProcessor::new(&bundle.scene.radar, frame_options)?;
+    let mut samples = Vec::new();
+    let mut frames = Vec::new();
+    for f in 0..bundle.frames() {
+        let cam = bundle.camera_frame(f).map_err(|e| e.to_string())?;
+        let objects = objects_of_interest(&camera, &cam);
+        let results = match mode {
+            Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
+            _ => {
+                bundle
+                    .read_radar_frame(f, &mut samples)
+                    .map_err(|e| e.to_string())?;
+                let spectra = proc.process(&samples)?;
+                let ra = naive::RangeAzimuth::new(&mut proc, spectra.range_bins)?;
+                objects
+                    .iter()
+                    .map(|o| naive::estimate(&ra, &proc, o))
+                    .collect()
+            }
+        };
+        frames.push(FrameResult {
+            frame: f,
+            objects: results,
+        });
+    }
+    Ok(ProcessOutput { mode, frames })
+}
