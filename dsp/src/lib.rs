@@ -29,6 +29,7 @@ pub mod doppler;
 pub mod fft;
 pub mod fixed;
 pub mod range;
+pub mod search;
 pub mod trig;
 pub mod units;
 pub mod window;
