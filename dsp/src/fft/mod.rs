@@ -11,6 +11,8 @@ mod reorder;
 mod simd;
 pub(crate) mod twiddle;
 
+/// Short name of the f32 complex type used for f32 spectra.
+pub use float::Complex32 as C32;
 pub use float::{Complex32, cfft_f32};
 
 use crate::fixed::{CQ15, CQ31};

@@ -3,6 +3,8 @@
 
 mod cube;
 mod processor;
+mod static_sum;
 
 pub use cube::RangeCube;
 pub use processor::{RangeError, RangeProcessor};
+pub use static_sum::StaticSum;

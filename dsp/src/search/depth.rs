@@ -15,8 +15,8 @@
 
 use super::contour::Contour;
 use super::dirichlet::dirichlet;
+pub use crate::fft::C32;
 use core::fmt;
-pub use microfft::Complex32 as C32;
 
 /// Fine depth steps per range bin.
 pub const FINE_STEPS_PER_BIN: usize = 4;

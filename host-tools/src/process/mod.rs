@@ -5,6 +5,7 @@
 //! bundle's mask and monocular depth ([`camera_points`]).
 
 pub mod camera_points;
+pub mod metamoran;
 pub mod monocular;
 pub mod naive;
 
@@ -107,9 +108,6 @@ pub struct ProcessOutput {
 /// # Errors
 /// A message naming the file and field of a bad bundle, or why the mode cannot run.
 pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOutput, String> {
-    if mode == Mode::Metamoran {
-        return Err("mode `metamoran` is not built yet (it is the next issue); use --mode naive or --mode monocular".into());
-    }
     let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
     let camera = CameraModel::new(&bundle.scene.camera);
     let frame_options = FrameOptions {
@@ -125,7 +123,17 @@ pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOu
         let objects = objects_of_interest(&camera, &cam);
         let results = match mode {
             Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
-            _ => {
+            Mode::Metamoran => {
+                bundle
+                    .read_radar_frame(f, &mut samples)
+                    .map_err(|e| e.to_string())?;
+                let scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
+                objects
+                    .iter()
+                    .map(|o| metamoran::estimate(&scene, o))
+                    .collect()
+            }
+            Mode::Naive => {
                 bundle
                     .read_radar_frame(f, &mut samples)
                     .map_err(|e| e.to_string())?;

@@ -1,0 +1,192 @@
+//! The Metamoran method on the host: per frame, the static sums and spectra (module code in
+//! `dsp`); per object, its contour from the camera, clutter cancellation outside its span,
+//! the depth search, and depth imaging (Sec. IV).
+
+use super::ObjectResult;
+use super::camera_points::{CameraObject, shift_to_depth};
+use crate::geometry::{Point, azimuth, range_xz};
+use dsp::clutter::sic::{self, SicScratch};
+use dsp::config::RadarConfig;
+use dsp::fft::C32;
+use dsp::range::StaticSum;
+use dsp::search::Contour;
+use dsp::search::depth::{Geometry, coarse_to_fine};
+use dsp::window::{WindowKind, coefficient_f64};
+
+/// Width of the azimuth bins that build the contour and reject edge outliers, rad.
+const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
+/// SIC goes on while a reflector outside the span has more than this fraction of the power of
+/// the strongest cell inside it.
+const SIC_STOP_RATIO: f32 = 0.05;
+/// The search starts at this fraction of the monocular depth: monocular depth is metres off, but
+/// not by a factor of 2.5 (the paper's Table I: 19 m median error at 40–60 m).
+const PRIOR_FRACTION: f64 = 0.4;
+/// `P(d*)` must exceed the median of `P` by this factor to be trusted.
+pub const DETECTION_RATIO: f32 = 6.0;
+/// Azimuth bins of the depth image with fewer points than this fraction of the fullest bin are
+/// edge outliers (the paper's per-azimuth-bin point-count threshold).
+const EDGE_FRACTION: f64 = 0.25;
+
+/// A frame's static scene, ready for the per-object search.
+pub struct StaticScene {
+    positions: Vec<f32>,
+    window: Vec<f32>,
+    samples: Vec<C32>,
+    spectra: Vec<C32>,
+    n: usize,
+    m: usize,
+    bin_m: f32,
+    span: usize,
+}
+
+impl StaticScene {
+    /// Sums `frame` (`[chirp][rx][sample]`) over loops per channel, Hann-windows and transforms it.
+    ///
+    /// # Errors
+    /// A message if the frame does not match the configuration.
+    pub fn new(config: &RadarConfig, frame: &[dsp::fixed::CQ15]) -> Result<Self, String> {
+        let (n, m, rx, slots) = (
+            config.adc_samples as usize,
+            config.range_fft_len(),
+            config.rx_count(),
+            config.slots(),
+        );
+        let channels = config.channels();
+        let mut samples = vec![C32::new(0.0, 0.0); channels * n];
+        let mut sum = StaticSum::new(&mut samples, n).map_err(|e| e.to_string())?;
+        for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
+            for (r, s) in rows.chunks_exact(n).enumerate() {
+                sum.push((chirp % slots) * rx + r, s)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        let window: Vec<f32> = (0..n)
+            .map(|i| coefficient_f64(WindowKind::Hann, i, n) as f32)
+            .collect();
+        let mut spectra = vec![C32::new(0.0, 0.0); channels * m];
+        sum.finish(&window, &mut spectra)
+            .map_err(|e| e.to_string())?;
+        let positions: Vec<f32> = (0..channels)
+            .map(|ch| config.channel_position(ch).unwrap_or(0) as f32)
+            .collect();
+        let span = (positions.iter().copied().fold(f32::MIN, f32::max)
+            - positions.iter().copied().fold(f32::MAX, f32::min)) as usize
+            + 1;
+        Ok(Self {
+            positions,
+            window,
+            samples,
+            spectra,
+            n,
+            m,
+            bin_m: config.range_bin_size(m).0,
+            span,
+        })
+    }
+
+    fn geometry(&self) -> Geometry<'_> {
+        Geometry {
+            positions: &self.positions,
+            samples: self.n,
+            fft_len: self.m,
+            bin_m: self.bin_m,
+        }
+    }
+}
+
+/// The contour of an object: per azimuth bin, the median monocular range of its points;
+/// bins far from the object's near surface (bleed into the background) are dropped.
+pub fn contour(obj: &CameraObject) -> Contour {
+    let mut bins: std::collections::BTreeMap<i64, Vec<f64>> = std::collections::BTreeMap::new();
+    for p in &obj.points {
+        bins.entry((azimuth(p) / AZ_BIN).floor() as i64)
+            .or_default()
+            .push(range_xz(p));
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let mut cols: Vec<(f64, f64)> = bins
+        .into_iter()
+        .map(|(b, mut v)| ((b as f64 + 0.5) * AZ_BIN, med(&mut v)))
+        .collect();
+    if cols.is_empty() {
+        return Contour::default();
+    }
+    let mut ranges: Vec<f64> = cols.iter().map(|c| c.1).collect();
+    ranges.sort_by(f64::total_cmp);
+    let near = ranges[ranges.len() / 5];
+    cols.retain(|&(_, r)| r >= near - 1.0 && r <= near + 6.0);
+    Contour::new(cols.into_iter().map(|(a, r)| (a.sin() as f32, r as f32)))
+}
+
+/// Keeps depth-image points of azimuth bins holding at least [`EDGE_FRACTION`] of the fullest
+/// bin's count.
+fn reject_edges(points: Vec<Point>) -> Vec<Point> {
+    let mut counts = std::collections::HashMap::new();
+    let bin = |p: &Point| (azimuth(p) / AZ_BIN).floor() as i64;
+    for p in &points {
+        *counts.entry(bin(p)).or_insert(0usize) += 1;
+    }
+    let max = counts.values().copied().max().unwrap_or(0);
+    points
+        .into_iter()
+        .filter(|p| counts[&bin(p)] as f64 >= EDGE_FRACTION * max as f64)
+        .collect()
+}
+
+/// The Metamoran estimate for one object of a frame.
+pub fn estimate(scene: &StaticScene, obj: &CameraObject) -> ObjectResult {
+    let c = contour(obj);
+    let Some((lo, hi)) = obj.span else {
+        return ObjectResult::missed(obj);
+    };
+    if c.is_empty() {
+        return ObjectResult::missed(obj);
+    }
+    let geo = scene.geometry();
+    let (mut samples, mut spectra) = (scene.samples.clone(), scene.spectra.clone());
+    // Keep the object's span plus a main lobe (first null of the array at sin = 2/span).
+    let guard = 2.0 / scene.span as f32;
+    let keep = [((lo.sin() as f32) - guard, (hi.sin() as f32) + guard)];
+    let max_bin = (0.92 * scene.m as f32) as usize;
+    let mut elements =
+        vec![C32::new(0.0, 0.0); dsp::fft::padded_len(4 * scene.span).unwrap_or(dsp::fft::MAX_LEN)];
+    let mut tone = vec![C32::new(0.0, 0.0); scene.m];
+    sic::cancel(
+        &mut spectra,
+        &mut samples,
+        &geo,
+        &scene.window,
+        &keep,
+        max_bin,
+        SIC_STOP_RATIO,
+        SicScratch {
+            elements: &mut elements,
+            tone: &mut tone,
+        },
+    );
+    let first_bin = obj
+        .closest_range()
+        .map_or(1.0, |r| (PRIOR_FRACTION * r) as f32 / scene.bin_m)
+        .clamp(1.0, max_bin as f32 - 2.0);
+    let mut profiles = vec![C32::new(0.0, 0.0); c.points().len() * scene.m];
+    let mut scores = vec![0.0; scene.m];
+    let Ok(found) = coarse_to_fine(
+        &spectra,
+        &geo,
+        &c,
+        (first_bin, max_bin as f32),
+        &mut profiles,
+        &mut scores,
+    ) else {
+        return ObjectResult::missed(obj);
+    };
+    if !(found.peak >= DETECTION_RATIO * found.floor) {
+        return ObjectResult::missed(obj);
+    }
+    let depth = found.depth_m as f64;
+    let points = reject_edges(shift_to_depth(&obj.points, depth));
+    ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+}
