@@ -94,6 +94,142 @@ impl StaticScene {
     }
 }
 
+/// A frame's moving scene: static clutter removed (mean over loops), then one range spectrum per
+/// Doppler bin and channel; `None` for frames with fewer than [`MIN_DOPPLER_LOOPS`] loops.
+pub struct MovingScene {
+    /// `[doppler][channel][bin]`, Doppler in natural FFT order (bin 0 is empty after clutter removal).
+    spectra: Vec<Vec<C32>>,
+    scene: StaticScene,
+    rx: usize,
+    slots: usize,
+}
+
+/// Most Doppler aliases tried each way (±`MAX_ALIAS` unambiguous intervals).
+const MAX_ALIAS: i32 = 25;
+
+impl MovingScene {
+    /// The Doppler spectra of the bin holding most energy toward `s_mid` from range bin `first`
+    /// on, compensated for the TDM slot delays with the Doppler alias that makes the virtual
+    /// array most coherent (12-TX TDM leaves ±1.4 m/s unambiguous, so fast movers alias).
+    fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> Vec<C32> {
+        let (m, nd, rx) = (self.scene.m, self.spectra.len(), self.rx);
+        let c = self.scene.positions.len();
+        let steer: Vec<C32> = self
+            .scene
+            .positions
+            .iter()
+            .map(|&p| {
+                let a = -std::f32::consts::PI * p * s_mid;
+                C32::new(a.cos(), a.sin())
+            })
+            .collect();
+        // Doppler bin: energy beamformed within each slot's receivers, summed over slots
+        // (insensitive to the alias).
+        let incoherent = |sp: &[C32]| -> f32 {
+            (first..max_bin)
+                .map(|k| {
+                    (0..self.slots)
+                        .map(|t| {
+                            let z: C32 = (t * rx..(t + 1) * rx)
+                                .map(|ch| sp[ch * m + k] * steer[ch])
+                                .sum();
+                            z.norm_sqr()
+                        })
+                        .sum::<f32>()
+                })
+                .sum()
+        };
+        let q = (1..nd)
+            .max_by(|&a, &b| incoherent(&self.spectra[a]).total_cmp(&incoherent(&self.spectra[b])))
+            .unwrap_or(0);
+        let sp = &self.spectra[q];
+        let qs = dsp::units::signed_bin(q, nd) as f32;
+        let compensation = |alias: i32| -> Vec<C32> {
+            let f = (qs + (alias * nd as i32) as f32) / (nd * self.slots) as f32;
+            (0..c)
+                .map(|ch| {
+                    let a = -2.0 * std::f32::consts::PI * f * (ch / rx) as f32;
+                    C32::new(a.cos(), a.sin())
+                })
+                .collect()
+        };
+        let coherent = |comp: &[C32]| -> f32 {
+            (first..max_bin)
+                .map(|k| {
+                    let z: C32 = (0..c).map(|ch| sp[ch * m + k] * steer[ch] * comp[ch]).sum();
+                    z.norm_sqr()
+                })
+                .sum()
+        };
+        let alias = (-MAX_ALIAS..=MAX_ALIAS)
+            .max_by(|&a, &b| coherent(&compensation(a)).total_cmp(&coherent(&compensation(b))))
+            .unwrap_or(0);
+        let comp = compensation(alias);
+        sp.iter()
+            .enumerate()
+            .map(|(i, &z)| z * comp[i / m])
+            .collect()
+    }
+}
+
+/// Fewest loops for the Doppler path.
+pub const MIN_DOPPLER_LOOPS: u16 = 8;
+
+impl MovingScene {
+    /// Builds the Doppler spectra of the frame through the module's fixed-point cube.
+    ///
+    /// # Errors
+    /// A message if the frame does not match the configuration.
+    pub fn new(
+        config: &RadarConfig,
+        frame: &[dsp::fixed::CQ15],
+        scene: &StaticScene,
+    ) -> Result<Option<Self>, String> {
+        if config.chirps_per_tx < MIN_DOPPLER_LOOPS {
+            return Ok(None);
+        }
+        let options = crate::frame::FrameOptions {
+            range_window: WindowKind::Hann,
+            doppler_window: WindowKind::Rectangular,
+            remove_static: true,
+        };
+        let mut proc = crate::frame::FrameProcessor::new(config, options)?;
+        proc.process(frame)?;
+        let (c, m, nd) = (config.channels(), scene.m, config.doppler_fft_len());
+        let mut spectra = vec![vec![C32::new(0.0, 0.0); c * m]; nd];
+        for (q, s) in spectra.iter_mut().enumerate() {
+            for k in 0..m {
+                let (values, exp) = proc.channel_values(k, q, true)?;
+                let scale = exp.scale_f32();
+                for (ch, z) in values.iter().enumerate() {
+                    s[ch * m + k] = C32::new(z.re.to_f32() * scale, z.im.to_f32() * scale);
+                }
+            }
+        }
+        Ok(Some(Self {
+            spectra,
+            scene: scene.clone_geometry(),
+            rx: config.rx_count(),
+            slots: config.slots(),
+        }))
+    }
+}
+
+impl StaticScene {
+    fn clone_geometry(&self) -> Self {
+        Self {
+            positions: self.positions.clone(),
+            window: self.window.clone(),
+            samples: Vec::new(),
+            spectra: Vec::new(),
+            n: self.n,
+            m: self.m,
+            bin_m: self.bin_m,
+            span: self.span,
+        }
+    }
+}
+
 /// The contour of an object: per azimuth bin, the median monocular range of its points;
 /// bins far from the object's near surface (bleed into the background) are dropped.
 pub fn contour(obj: &CameraObject) -> Contour {
@@ -136,14 +272,47 @@ fn reject_edges(points: Vec<Point>) -> Vec<Point> {
         .collect()
 }
 
-/// The Metamoran estimate for one object of a frame.
-pub fn estimate(scene: &StaticScene, obj: &CameraObject) -> ObjectResult {
-    let c = contour(obj);
+/// The best depth of `contour` in `spectra` from range bin `first` on: (depth m, peak/floor).
+fn search(
+    scene: &StaticScene,
+    spectra: &[C32],
+    contour: &Contour,
+    first: f32,
+    max_bin: usize,
+) -> Option<(f64, f32)> {
+    let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * scene.m];
+    let mut scores = vec![0.0; scene.m];
+    let found = coarse_to_fine(
+        spectra,
+        &scene.geometry(),
+        contour,
+        (first, max_bin as f32),
+        &mut profiles,
+        &mut scores,
+    )
+    .ok()?;
+    Some((
+        found.depth_m as f64,
+        found.peak / found.floor.max(f32::MIN_POSITIVE),
+    ))
+}
+
+/// The Metamoran estimate for one object of a frame: the static search after clutter
+/// cancellation and, where the frame has Doppler, the search on the Doppler bin holding most of
+/// the energy at the object's azimuth; the more confident of the two wins.
+pub fn estimate(
+    scene: &StaticScene,
+    moving: Option<&MovingScene>,
+    obj: &CameraObject,
+) -> ObjectResult {
     let Some((lo, hi)) = obj.span else {
         return ObjectResult::missed(obj);
     };
+    let mut c = contour(obj);
     if c.is_empty() {
-        return ObjectResult::missed(obj);
+        // No monocular depth (e.g. beyond the 256 m a depth PNG holds): a flat contour across
+        // the mask's azimuth span.
+        c = Contour::new((0..9).map(|i| ((lo + (hi - lo) * i as f64 / 8.0).sin() as f32, 0.0f32)));
     }
     let geo = scene.geometry();
     let (mut samples, mut spectra) = (scene.samples.clone(), scene.spectra.clone());
@@ -171,22 +340,20 @@ pub fn estimate(scene: &StaticScene, obj: &CameraObject) -> ObjectResult {
         .closest_range()
         .map_or(1.0, |r| (PRIOR_FRACTION * r) as f32 / scene.bin_m)
         .clamp(1.0, max_bin as f32 - 2.0);
-    let mut profiles = vec![C32::new(0.0, 0.0); c.points().len() * scene.m];
-    let mut scores = vec![0.0; scene.m];
-    let Ok(found) = coarse_to_fine(
-        &spectra,
-        &geo,
-        &c,
-        (first_bin, max_bin as f32),
-        &mut profiles,
-        &mut scores,
-    ) else {
-        return ObjectResult::missed(obj);
-    };
-    if !(found.peak >= DETECTION_RATIO * found.floor) {
-        return ObjectResult::missed(obj);
+    let mut best = search(scene, &spectra, &c, first_bin, max_bin);
+    if let Some(mv) = moving {
+        let focused = mv.focused(((lo + hi) / 2.0).sin() as f32, first_bin as usize, max_bin);
+        if let Some(found) = search(&mv.scene, &focused, &c, first_bin, max_bin) {
+            if best.is_none_or(|b| found.1 > b.1) {
+                best = Some(found);
+            }
+        }
     }
-    let depth = found.depth_m as f64;
-    let points = reject_edges(shift_to_depth(&obj.points, depth));
-    ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+    match best {
+        Some((depth, ratio)) if ratio >= DETECTION_RATIO => {
+            let points = reject_edges(shift_to_depth(&obj.points, depth));
+            ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+        }
+        _ => ObjectResult::missed(obj),
+    }
 }
