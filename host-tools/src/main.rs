@@ -137,6 +137,13 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "256,1024")]
         sizes: Vec<usize>,
     },
+    /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
+    #[command(after_help = "Example:\n  metamoran bench search --json")]
+    Search {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// FFT instruction counts on the Cortex-M7 under QEMU (-icount), vs CMSIS-DSP's published counts.
     #[command(
         name = "fft-m7",
@@ -291,6 +298,9 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Bench {
             what: BenchCommand::FftM7 { json },
         } => print(&host_tools::bench::m7::run()?, json),
+        Command::Bench {
+            what: BenchCommand::Search { json },
+        } => print(&host_tools::bench::search::run()?, json),
     }
 }
 

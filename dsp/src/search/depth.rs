@@ -136,14 +136,20 @@ pub fn brute_force(
         let mut p = 0.0f32;
         for pt in contour.points() {
             let f = d + pt.rel_range_m / geo.bin_m;
-            // exp(−j2π f n / M), advanced by rotation.
+            // The template exp(−j2π f n / M), advanced by rotation (renormalized every 64).
             let w = -2.0 * core::f32::consts::PI * f / m as f32;
+            let step = C32::new(libm::cosf(w), libm::sinf(w));
             let mut acc = C32::new(0.0, 0.0);
             for (ch, row) in samples.chunks_exact(n).enumerate() {
                 let mut sum = C32::new(0.0, 0.0);
+                let mut t = C32::new(1.0, 0.0);
                 for (k, &x) in row.iter().enumerate() {
-                    let a = w * k as f32;
-                    sum += x * C32::new(libm::cosf(a), libm::sinf(a));
+                    sum += x * t;
+                    t *= step;
+                    if k % 64 == 63 {
+                        let a = w * (k + 1) as f32;
+                        t = C32::new(libm::cosf(a), libm::sinf(a));
+                    }
                 }
                 acc += sum * steer(geo.positions[ch], pt.sin_az);
             }

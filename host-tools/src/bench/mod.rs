@@ -2,3 +2,4 @@
 
 pub mod fft;
 pub mod m7;
+pub mod search;

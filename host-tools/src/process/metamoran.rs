@@ -10,7 +10,7 @@ use dsp::config::RadarConfig;
 use dsp::fft::C32;
 use dsp::range::StaticSum;
 use dsp::search::Contour;
-use dsp::search::depth::{Geometry, coarse_to_fine};
+use dsp::search::depth::{Geometry, SearchResult, brute_force, coarse_to_fine};
 use dsp::window::{WindowKind, coefficient_f64};
 
 /// Width of the azimuth bins that build the contour and reject edge outliers, rad.
@@ -297,17 +297,21 @@ fn search(
     ))
 }
 
-/// The Metamoran estimate for one object of a frame: the static search after clutter
-/// cancellation and, where the frame has Doppler, the search on the Doppler bin holding most of
-/// the energy at the object's azimuth; the more confident of the two wins.
-pub fn estimate(
-    scene: &StaticScene,
-    moving: Option<&MovingScene>,
-    obj: &CameraObject,
-) -> ObjectResult {
-    let Some((lo, hi)) = obj.span else {
-        return ObjectResult::missed(obj);
-    };
+/// An object's search problem after clutter cancellation: what both searches run on.
+pub struct Prepared {
+    /// The contour.
+    pub contour: Contour,
+    /// Windowed static samples with the cancelled reflectors removed (`channels × N`).
+    pub samples: Vec<C32>,
+    /// Their spectra (`channels × M`).
+    pub spectra: Vec<C32>,
+    /// First and last range bin searched.
+    pub bins: (f32, f32),
+}
+
+/// Builds the contour, cancels clutter outside the object's span, and sets the search range.
+pub fn prepare(scene: &StaticScene, obj: &CameraObject) -> Option<Prepared> {
+    let (lo, hi) = obj.span?;
     let mut c = contour(obj);
     if c.is_empty() {
         // No monocular depth (e.g. beyond the 256 m a depth PNG holds): a flat contour across
@@ -336,14 +340,69 @@ pub fn estimate(
             tone: &mut tone,
         },
     );
-    let first_bin = obj
+    let first = obj
         .closest_range()
         .map_or(1.0, |r| (PRIOR_FRACTION * r) as f32 / scene.bin_m)
         .clamp(1.0, max_bin as f32 - 2.0);
-    let mut best = search(scene, &spectra, &c, first_bin, max_bin);
+    Some(Prepared {
+        contour: c,
+        samples,
+        spectra,
+        bins: (first, max_bin as f32),
+    })
+}
+
+/// The production search on a prepared object.
+///
+/// # Errors
+/// A message if the search cannot run.
+pub fn fast_search(scene: &StaticScene, p: &Prepared) -> Result<SearchResult, String> {
+    let mut profiles = vec![C32::new(0.0, 0.0); p.contour.points().len() * scene.m];
+    let mut scores = vec![0.0; scene.m];
+    coarse_to_fine(
+        &p.spectra,
+        &scene.geometry(),
+        &p.contour,
+        p.bins,
+        &mut profiles,
+        &mut scores,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// Both searches on a prepared object: (production coarse-to-fine, brute-force reference).
+///
+/// # Errors
+/// A message if a search cannot run.
+pub fn both_searches(
+    scene: &StaticScene,
+    p: &Prepared,
+) -> Result<(SearchResult, SearchResult), String> {
+    let fast = fast_search(scene, p)?;
+    let reference = brute_force(&p.samples, &scene.geometry(), &p.contour, p.bins)
+        .map_err(|e| e.to_string())?;
+    Ok((fast, reference))
+}
+
+/// The Metamoran estimate for one object of a frame: the static search after clutter
+/// cancellation and, where the frame has Doppler, the search on the Doppler bin holding most of
+/// the energy at the object's azimuth; the more confident of the two wins.
+pub fn estimate(
+    scene: &StaticScene,
+    moving: Option<&MovingScene>,
+    obj: &CameraObject,
+) -> ObjectResult {
+    let Some((lo, hi)) = obj.span else {
+        return ObjectResult::missed(obj);
+    };
+    let Some(p) = prepare(scene, obj) else {
+        return ObjectResult::missed(obj);
+    };
+    let (c, first_bin, max_bin) = (&p.contour, p.bins.0, p.bins.1 as usize);
+    let mut best = search(scene, &p.spectra, c, first_bin, max_bin);
     if let Some(mv) = moving {
         let focused = mv.focused(((lo + hi) / 2.0).sin() as f32, first_bin as usize, max_bin);
-        if let Some(found) = search(&mv.scene, &focused, &c, first_bin, max_bin) {
+        if let Some(found) = search(&mv.scene, &focused, c, first_bin, max_bin) {
             if best.is_none_or(|b| found.1 > b.1) {
                 best = Some(found);
             }
