@@ -57,6 +57,37 @@ impl<'a> StaticSum<'a> {
         Ok(())
     }
 
+    /// Adds one chirp of one channel at virtual position `position` (half-wavelengths) with the
+    /// reflectors already known (e.g. cancelled in the previous frame of a static scene) removed
+    /// as it streams in: each contributes `α / loops · exp(jπ·p·sin θ) · exp(j2π·r·n/M)` per
+    /// chirp. Windowing the sum later gives exactly the frame-level cancellation. O(R·N); the
+    /// state is the reflector list, at most [`crate::clutter::sic::MAX_REFLECTORS`] entries.
+    ///
+    /// # Errors
+    /// [`RangeError`] for a channel out of range or a wrong sample count.
+    pub fn push_cancelled(
+        &mut self,
+        channel: usize,
+        chirp: &[CQ15],
+        position: f32,
+        reflectors: &[crate::clutter::sic::Reflector],
+        loops: usize,
+        fft_len: usize,
+    ) -> Result<(), RangeError> {
+        self.push(channel, chirp)?;
+        let row = &mut self.samples[channel * self.n..(channel + 1) * self.n];
+        for r in reflectors {
+            let a = core::f32::consts::PI * position * r.sin_az;
+            let gain = C32::new(libm::cosf(a), libm::sinf(a)) * r.amplitude / loops.max(1) as f32;
+            let w = 2.0 * core::f32::consts::PI * r.range_bins / fft_len as f32;
+            for (k, x) in row.iter_mut().enumerate() {
+                let ph = w * k as f32;
+                *x -= gain * C32::new(libm::cosf(ph), libm::sinf(ph));
+            }
+        }
+        Ok(())
+    }
+
     /// Windows the sums (`window.len() == N`) in place and writes their `M`-point spectra
     /// into `spectra` (`channels × M`). O(C·M log M).
     ///
