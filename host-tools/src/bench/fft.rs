@@ -83,6 +83,22 @@ impl Input {
             .collect()
     }
 
+    /// Interleaved raw integers of the input quantized for `format`.
+    fn raw(&self, format: CmsisFormat) -> Vec<i64> {
+        match format {
+            CmsisFormat::Q15 => self.q15.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(),
+            CmsisFormat::Q31 => self.q31.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(),
+        }
+    }
+
+    /// The exact values of the input quantized for `format`.
+    fn exact(&self, format: CmsisFormat) -> Vec<Complex64> {
+        match format {
+            CmsisFormat::Q15 => self.q15_f64(),
+            CmsisFormat::Q31 => self.q31_f64(),
+        }
+    }
+
     fn q31_f64(&self) -> Vec<Complex64> {
         self.q31
             .iter()
@@ -242,24 +258,7 @@ fn cmsis_rows(sizes: &[usize]) -> Result<Vec<FftRow>, String> {
             for dbfs in levels {
                 for seed in 1..=SEEDS {
                     let input = Input::new(n, dbfs, seed);
-                    let (data, reference) = match format {
-                        CmsisFormat::Q15 => (
-                            input
-                                .q15
-                                .iter()
-                                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
-                                .collect(),
-                            reference(&input.q15_f64()),
-                        ),
-                        CmsisFormat::Q31 => (
-                            input
-                                .q31
-                                .iter()
-                                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
-                                .collect(),
-                            reference(&input.q31_f64()),
-                        ),
-                    };
+                    let (data, reference) = (input.raw(format), reference(&input.exact(format)));
                     requests.push(CmsisRequest { format, data });
                     refs.push((n, format, dbfs, reference));
                 }
