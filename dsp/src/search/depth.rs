@@ -47,6 +47,9 @@ pub struct SearchResult {
     pub peak: f32,
     /// Median of `P` over the searched depths on the bin grid (the floor a real object must clear).
     pub floor: f32,
+    /// Best bin-grid score more than the contour's depth extent + 2 bins away from `d*`: a
+    /// second explanation of the data (0 where none was computed).
+    pub runner_up: f32,
     /// Complex multiply-accumulates spent.
     pub macs: u64,
 }
@@ -165,6 +168,7 @@ pub fn brute_force(
         depth_m: best.1 * geo.bin_m,
         peak: best.0,
         floor: 0.0,
+        runner_up: 0.0,
         macs,
     })
 }
@@ -273,7 +277,13 @@ pub fn coarse_to_fine(
             }
         }
     }
-    // 4. The floor: median coarse score over the searched range.
+    // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
+    let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
+    let centre = libm::roundf(best.1) as usize;
+    let runner_up = (lo..=hi)
+        .filter(|&d| d + guard < centre || d > centre + guard)
+        .map(|d| scores[d])
+        .fold(0.0, f32::max);
     let window = &mut scores[lo..=hi];
     let mid = window.len() / 2;
     let floor = *window.select_nth_unstable_by(mid, f32::total_cmp).1;
@@ -282,6 +292,7 @@ pub fn coarse_to_fine(
         depth_m: best.1 * geo.bin_m,
         peak: best.0,
         floor,
+        runner_up,
         macs,
     })
 }

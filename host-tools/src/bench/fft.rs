@@ -86,8 +86,16 @@ impl Input {
     /// Interleaved raw integers of the input quantized for `format`.
     fn raw(&self, format: CmsisFormat) -> Vec<i64> {
         match format {
-            CmsisFormat::Q15 => self.q15.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(),
-            CmsisFormat::Q31 => self.q31.iter().flat_map(|z| [z.re.0 as i64, z.im.0 as i64]).collect(),
+            CmsisFormat::Q15 => self
+                .q15
+                .iter()
+                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
+                .collect(),
+            CmsisFormat::Q31 => self
+                .q31
+                .iter()
+                .flat_map(|z| [z.re.0 as i64, z.im.0 as i64])
+                .collect(),
         }
     }
 

@@ -21,6 +21,9 @@ const SIC_STOP_RATIO: f32 = 0.05;
 /// The search starts at this fraction of the monocular depth: monocular depth is metres off, but
 /// not by a factor of 2.5 (the paper's Table I: 19 m median error at 40–60 m).
 const PRIOR_FRACTION: f64 = 0.4;
+/// `P(d*)` must also exceed the best score elsewhere (beyond the contour's depth extent) by this
+/// factor: two comparable explanations of the data mean the answer is a guess.
+pub const UNIQUENESS_RATIO: f32 = 1.3;
 /// `P(d*)` must exceed the median of `P` by this factor to be trusted.
 pub const DETECTION_RATIO: f32 = 6.0;
 /// Azimuth bins of the depth image with fewer points than this fraction of the fullest bin are
@@ -279,7 +282,7 @@ fn search(
     contour: &Contour,
     first: f32,
     max_bin: usize,
-) -> Option<(f64, f32)> {
+) -> Option<(f64, f32, f32)> {
     let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * scene.m];
     let mut scores = vec![0.0; scene.m];
     let found = coarse_to_fine(
@@ -294,6 +297,7 @@ fn search(
     Some((
         found.depth_m as f64,
         found.peak / found.floor.max(f32::MIN_POSITIVE),
+        found.peak / found.runner_up.max(f32::MIN_POSITIVE),
     ))
 }
 
@@ -409,7 +413,7 @@ pub fn estimate(
         }
     }
     match best {
-        Some((depth, ratio)) if ratio >= DETECTION_RATIO => {
+        Some((depth, ratio, unique)) if ratio >= DETECTION_RATIO && unique >= UNIQUENESS_RATIO => {
             let points = reject_edges(shift_to_depth(&obj.points, depth));
             ObjectResult::found(obj, depth, obj.median_azimuth(), points)
         }
