@@ -168,6 +168,38 @@ impl FrameProcessor {
         })
     }
 
+    /// The Doppler spectrum (natural FFT order) and block exponent of every channel at range
+    /// bin `bin` of the last frame, each computed once.
+    ///
+    /// # Errors
+    /// A message if the bin is out of range.
+    pub fn doppler_spectra(
+        &mut self,
+        bin: usize,
+        remove_static: bool,
+    ) -> Result<Vec<(Exponent, Vec<CQ15>)>, String> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut out = Vec::with_capacity(self.array.channels());
+        let mut result = Ok(());
+        for ch in 0..self.array.channels() {
+            match doppler_column(
+                &self.cube,
+                ch,
+                bin,
+                &self.doppler_options(remove_static),
+                &mut scratch,
+            ) {
+                Ok(e) => out.push((e, scratch.clone())),
+                Err(e) => {
+                    result = Err(e.to_string());
+                    break;
+                }
+            }
+        }
+        self.scratch = scratch;
+        result.map(|()| out)
+    }
+
     /// Channel values of range bin `bin` at Doppler index `doppler` of the last frame, aligned to
     /// one exponent (index 0 without static removal is the sum over loops: the static scene).
     ///
@@ -179,43 +211,17 @@ impl FrameProcessor {
         doppler: usize,
         remove_static: bool,
     ) -> Result<(Vec<CQ15>, Exponent), String> {
-        let channels = self.array.channels();
-        let mut values = Vec::with_capacity(channels);
-        let mut exps = Vec::with_capacity(channels);
-        let mut scratch = std::mem::take(&mut self.scratch);
-        let mut result = Ok(());
-        for ch in 0..channels {
-            match doppler_column(
-                &self.cube,
-                ch,
-                bin,
-                &self.doppler_options(remove_static),
-                &mut scratch,
-            ) {
-                Ok(e) => match scratch.get(doppler) {
-                    Some(&z) => {
-                        values.push(z);
-                        exps.push(e.0);
-                    }
-                    None => result = Err(format!("Doppler index {doppler} out of range")),
-                },
-                Err(e) => result = Err(e.to_string()),
-            }
-            if result.is_err() {
-                break;
-            }
-        }
-        self.scratch = scratch;
-        result?;
-        let top = exps.iter().copied().max().unwrap_or(0);
-        Ok((
-            values
-                .iter()
-                .zip(&exps)
-                .map(|(z, &e)| z.scale_down(top - e))
-                .collect(),
-            Exponent(top),
-        ))
+        let spectra = self.doppler_spectra(bin, remove_static)?;
+        let top = spectra.iter().map(|(e, _)| e.0).max().unwrap_or(0);
+        let values = spectra
+            .iter()
+            .map(|(e, s)| {
+                s.get(doppler)
+                    .map(|z| z.scale_down(top - e.0))
+                    .ok_or_else(|| format!("Doppler index {doppler} out of range"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((values, Exponent(top)))
     }
 
     /// Azimuth FFT length used for this array: 4× oversampled, at least 64 points.

@@ -200,11 +200,10 @@ impl MovingScene {
         proc.process(frame)?;
         let (c, m, nd) = (config.channels(), scene.m, config.doppler_fft_len());
         let mut spectra = vec![vec![C32::new(0.0, 0.0); c * m]; nd];
-        for (q, s) in spectra.iter_mut().enumerate() {
-            for k in 0..m {
-                let (values, exp) = proc.channel_values(k, q, true)?;
+        for k in 0..m {
+            for (ch, (exp, column)) in proc.doppler_spectra(k, true)?.into_iter().enumerate() {
                 let scale = exp.scale_f32();
-                for (ch, z) in values.iter().enumerate() {
+                for (s, z) in spectra.iter_mut().zip(&column) {
                     s[ch * m + k] = C32::new(z.re.to_f32() * scale, z.im.to_f32() * scale);
                 }
             }
@@ -283,22 +282,32 @@ fn search(
     first: f32,
     max_bin: usize,
 ) -> Option<(f64, f32, f32)> {
-    let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * scene.m];
-    let mut scores = vec![0.0; scene.m];
-    let found = coarse_to_fine(
-        spectra,
-        &scene.geometry(),
-        contour,
-        (first, max_bin as f32),
-        &mut profiles,
-        &mut scores,
-    )
-    .ok()?;
+    let found = run_search(scene, spectra, contour, (first, max_bin as f32)).ok()?;
     Some((
         found.depth_m as f64,
         found.peak / found.floor.max(f32::MIN_POSITIVE),
         found.peak / found.runner_up.max(f32::MIN_POSITIVE),
     ))
+}
+
+/// `coarse_to_fine` with its scratch buffers.
+fn run_search(
+    scene: &StaticScene,
+    spectra: &[C32],
+    contour: &Contour,
+    bins: (f32, f32),
+) -> Result<SearchResult, String> {
+    let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * scene.m];
+    let mut scores = vec![0.0; scene.m];
+    coarse_to_fine(
+        spectra,
+        &scene.geometry(),
+        contour,
+        bins,
+        &mut profiles,
+        &mut scores,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// An object's search problem after clutter cancellation: what both searches run on.
@@ -361,17 +370,7 @@ pub fn prepare(scene: &StaticScene, obj: &CameraObject) -> Option<Prepared> {
 /// # Errors
 /// A message if the search cannot run.
 pub fn fast_search(scene: &StaticScene, p: &Prepared) -> Result<SearchResult, String> {
-    let mut profiles = vec![C32::new(0.0, 0.0); p.contour.points().len() * scene.m];
-    let mut scores = vec![0.0; scene.m];
-    coarse_to_fine(
-        &p.spectra,
-        &scene.geometry(),
-        &p.contour,
-        p.bins,
-        &mut profiles,
-        &mut scores,
-    )
-    .map_err(|e| e.to_string())
+    run_search(scene, &p.spectra, &p.contour, p.bins)
 }
 
 /// Both searches on a prepared object: (production coarse-to-fine, brute-force reference).
