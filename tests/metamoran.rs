@@ -28,12 +28,12 @@ fn coarse_to_fine_agrees_with_brute_force() {
         let cam = b.camera_frame(0).unwrap();
         let mut frame = Vec::new();
         b.read_radar_frame(0, &mut frame).unwrap();
-        let scene = StaticScene::new(&b.scene.radar, &frame).unwrap();
+        let mut scene = StaticScene::new(&b.scene.radar, &frame).unwrap();
         for obj in objects_of_interest(&CameraModel::new(&b.scene.camera), &cam) {
-            let Some(p) = prepare(&scene, &obj) else {
+            let Some(p) = prepare(&mut scene, &obj) else {
                 continue;
             };
-            let (fast, reference) = both_searches(&scene, &p).unwrap();
+            let (fast, reference) = both_searches(&mut scene, &p).unwrap();
             total += 1;
             if (fast.depth_bins - reference.depth_bins).abs()
                 <= 1.0 / FINE_STEPS_PER_BIN as f32 + 1e-3

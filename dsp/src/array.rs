@@ -63,6 +63,12 @@ pub struct VirtualArray {
     count_at: Vec<u8, { crate::fft::MAX_LEN }>,
     /// Distinct positions.
     elements: usize,
+    /// Dense index (0..elements, by position) of each channel's element.
+    element_of_channel: Vec<u16, MAX_CHANNELS>,
+    /// Position of each element; ascending.
+    element_position: Vec<u16, MAX_CHANNELS>,
+    /// Channels summed into each element.
+    element_count: Vec<u8, MAX_CHANNELS>,
 }
 
 impl VirtualArray {
@@ -98,11 +104,25 @@ impl VirtualArray {
                 .push(rel as u16)
                 .map_err(|_| ArrayError::Config)?;
         }
-        let elements = count_at.iter().filter(|&&c| c > 0).count();
+        let mut element_position: Vec<u16, MAX_CHANNELS> = Vec::new();
+        let mut element_count: Vec<u8, MAX_CHANNELS> = Vec::new();
+        for (p, &c) in count_at.iter().enumerate().filter(|(_, c)| **c > 0) {
+            element_position
+                .push(p as u16)
+                .map_err(|_| ArrayError::Config)?;
+            element_count.push(c).map_err(|_| ArrayError::Config)?;
+        }
+        let element_of_channel = position_of_channel
+            .iter()
+            .map(|p| element_position.partition_point(|q| q < p) as u16)
+            .collect();
         Ok(Self {
             position_of_channel,
             count_at,
-            elements,
+            elements: element_position.len(),
+            element_of_channel,
+            element_position,
+            element_count,
         })
     }
 
@@ -124,6 +144,21 @@ impl VirtualArray {
     /// Position of `channel` (from 0) in half-wavelengths.
     pub fn position(&self, channel: usize) -> Option<u16> {
         self.position_of_channel.get(channel).copied()
+    }
+
+    /// The element (dense index over distinct positions, ascending) that `channel` feeds.
+    pub fn element_of(&self, channel: usize) -> Option<usize> {
+        self.element_of_channel.get(channel).map(|&e| e as usize)
+    }
+
+    /// Position of each element (half-wavelengths from the first), ascending.
+    pub fn element_positions(&self) -> &[u16] {
+        &self.element_position
+    }
+
+    /// How many channels each element sums (its weight in the array factor).
+    pub fn element_counts(&self) -> &[u8] {
+        &self.element_count
     }
 
     /// Whether position `p` holds an element.
@@ -188,6 +223,10 @@ mod tests {
         assert_eq!(a.span(), 12);
         assert_eq!(a.elements(), 10);
         assert!(!a.occupied(6) && a.occupied(8));
+        assert_eq!(a.element_positions(), &[0, 1, 2, 3, 4, 5, 8, 9, 10, 11]);
+        assert_eq!(a.element_counts(), &[1, 1, 2, 2, 1, 1, 1, 1, 1, 1]);
+        // channel 4 (TX1 RX0) sits at 2: element 2; channel 8 (TX2 RX0) at 8: element 6
+        assert_eq!((a.element_of(4), a.element_of(8)), (Some(2), Some(6)));
         let vals: std::vec::Vec<CQ15> = (0..12)
             .map(|ch| CQ15::from_raw(100 * ch as i16, -(ch as i16)))
             .collect();

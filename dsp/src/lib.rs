@@ -6,10 +6,12 @@
 //! * [`capture`]: DCA1000 sample layouts → complex Q15 samples;
 //! * [`range`]: windowed range FFT per (chirp, RX), streaming as chirps arrive;
 //! * [`array`]: the TDM-MIMO virtual array;
-//! * [`clutter`]: static clutter removal;
+//! * [`clutter`]: static clutter removal, the frame's strong reflectors, SIC;
 //! * [`doppler`]: Doppler FFT and the range–Doppler map;
 //! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;
 //! * [`detect`]: CA/OS-CFAR and peak interpolation;
+//! * [`search`]: contour templates and the depth search;
+//! * [`pipeline`]: the module's per-frame job (sums → spectra → SIC → search per object);
 //!
 //! on top of [`fixed`] (Q15/Q31 and complex values), [`fft`], [`window`], [`trig`] and the
 //! radar geometry in [`config`] and [`units`].
@@ -28,6 +30,7 @@ pub mod detect;
 pub mod doppler;
 pub mod fft;
 pub mod fixed;
+pub mod pipeline;
 pub mod range;
 pub mod search;
 pub mod trig;

@@ -21,22 +21,30 @@ pub enum WindowKind {
     BlackmanHarris,
 }
 
+/// The window as a cosine sum: `w[n] = a₀ − a₁·cos(2πn/(L−1)) + a₂·cos(4πn/(L−1)) − a₃·cos(6πn/(L−1))`.
+/// Every shape here is one, so its transform has a closed form (see `search::kernel`).
+pub const fn cosine_terms(kind: WindowKind) -> [f64; 4] {
+    match kind {
+        WindowKind::Rectangular => [1.0, 0.0, 0.0, 0.0],
+        WindowKind::Hann => [0.5, 0.5, 0.0, 0.0],
+        WindowKind::Hamming => [0.54, 0.46, 0.0, 0.0],
+        WindowKind::BlackmanHarris => [0.35875, 0.48829, 0.14128, 0.01168],
+    }
+}
+
 /// Coefficient `n` of a symmetric window of length `len` (f64), usable in constant expressions.
 pub const fn coefficient_f64(kind: WindowKind, n: usize, len: usize) -> f64 {
     if len <= 1 {
         return 1.0;
     }
     let (n, den) = (n as i64, len as i64 - 1);
-    let c1 = cos_sin_turn(n, den).0;
-    match kind {
-        WindowKind::Rectangular => 1.0,
-        WindowKind::Hann => 0.5 - 0.5 * c1,
-        WindowKind::Hamming => 0.54 - 0.46 * c1,
-        WindowKind::BlackmanHarris => {
-            let (c2, c3) = (cos_sin_turn(2 * n, den).0, cos_sin_turn(3 * n, den).0);
-            0.35875 - 0.48829 * c1 + 0.14128 * c2 - 0.01168 * c3
-        }
-    }
+    let a = cosine_terms(kind);
+    let (c1, c2, c3) = (
+        cos_sin_turn(n, den).0,
+        cos_sin_turn(2 * n, den).0,
+        cos_sin_turn(3 * n, den).0,
+    );
+    a[0] - a[1] * c1 + a[2] * c2 - a[3] * c3
 }
 
 /// Coefficient `n` of a symmetric window of length `len` in Q15 (1.0 saturates to 32767).

@@ -1,223 +1,240 @@
-//! The depth search on signals synthesized from the bundle signal model: a contour object next
-//! to a much stronger clutter point. The production search must pick the reference's depth to a
-//! fine step, find the true depth, and spend far fewer multiply-accumulates.
+//! The module pipeline on chirps synthesized from the bundle signal model (f64): a contour
+//! object next to a much stronger clutter point. SIC must find the clutter; the production
+//! search must pick the reference's depth to a fine step, find the true depth, and spend far
+//! fewer multiply-accumulates; the beam-domain cancellation must equal the time-domain one.
 
-use dsp::search::depth::{C32, FINE_STEPS_PER_BIN, Geometry, brute_force, coarse_to_fine};
-use dsp::search::{Contour, ContourPoint};
+use dsp::clutter::sic::Residual;
+use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
+use dsp::fft::C32;
+use dsp::fixed::CQ15;
+use dsp::pipeline::{Edge, ObjectHint};
+use dsp::range::StaticSum;
+use dsp::search::Contour;
+use dsp::search::depth::{FINE_STEPS_PER_BIN, brute_force};
+use dsp::window::coefficient_f64;
 use std::f64::consts::PI;
 
-/// (range m, sin az, amplitude) point reflectors → windowed static samples `[ch][n]` and their
-/// zero-padded FFT `[ch][k]`.
-fn synth(
-    points: &[(f64, f64, f64)],
-    positions: &[f32],
-    n: usize,
-    m: usize,
-    bin_m: f64,
-) -> (Vec<C32>, Vec<C32>) {
-    let mut samples = Vec::new();
-    for &p in positions {
-        for k in 0..n {
-            let w = 0.5 - 0.5 * (2.0 * PI * k as f64 / (n - 1) as f64).cos();
+const N: usize = 64;
+const BIN_M: f64 = 0.1;
+
+/// 2 TX × 4 RX at positions 0..8, 64 samples, 0.1 m bins, 2 loops.
+fn config() -> RadarConfig {
+    let fs = 10.0e6;
+    RadarConfig {
+        start_frequency_hz: 77.0e9,
+        slope_hz_per_s: SPEED_OF_LIGHT * fs / (2.0 * BIN_M * N as f64),
+        sample_rate_hz: fs,
+        adc_samples: N as u16,
+        chirp_period_s: 10.0e-6,
+        chirps_per_tx: 2,
+        frames: 1,
+        frame_period_s: 0.1,
+        tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap(),
+        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap(),
+        tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap(),
+    }
+}
+
+/// One chirp of the element at `p` from (range m, sin az, amplitude LSB) reflectors.
+fn chirp(points: &[(f64, f64, f64)], p: f64) -> Vec<CQ15> {
+    (0..N)
+        .map(|n| {
             let (mut re, mut im) = (0.0, 0.0);
             for (i, &(r, s, a)) in points.iter().enumerate() {
-                // Beat frequency in bins of the M-point FFT is r / bin_m; phase per point arbitrary.
-                let ph = 2.0 * PI * (r / bin_m) * k as f64 / m as f64
-                    + PI * p as f64 * s
-                    + 1.7 * i as f64;
+                let ph = 2.0 * PI * (r / BIN_M) * n as f64 / N as f64 + PI * p * s + 1.7 * i as f64;
                 re += a * ph.cos();
                 im += a * ph.sin();
             }
-            samples.push(C32::new((w * re) as f32, (w * im) as f32));
-        }
-    }
-    let mut spectra = Vec::new();
-    for row in samples.chunks_exact(n) {
-        for b in 0..m {
-            let (mut re, mut im) = (0.0f64, 0.0f64);
-            for (k, x) in row.iter().enumerate() {
-                let a = -2.0 * PI * (b * k) as f64 / m as f64;
-                re += x.re as f64 * a.cos() - x.im as f64 * a.sin();
-                im += x.re as f64 * a.sin() + x.im as f64 * a.cos();
-            }
-            spectra.push(C32::new(re as f32, im as f32));
-        }
-    }
-    (samples, spectra)
+            CQ15::from_raw(re.round() as i16, im.round() as i16)
+        })
+        .collect()
 }
 
+struct Run {
+    edge: Edge,
+    arena: Vec<u32>,
+    exponent: i32,
+    peaks: heapless::Vec<dsp::clutter::peaks::Peak, 64>,
+    /// Windowed f32 element sums for the reference.
+    samples: Vec<C32>,
+    window: Vec<f32>,
+}
+
+fn run(points: &[(f64, f64, f64)]) -> Run {
+    let cfg = config();
+    let edge = Edge::new(&cfg).unwrap();
+    let mut arena = vec![0u32; edge.arena_words()];
+    let mut samples = vec![C32::new(0.0, 0.0); edge.array().elements() * N];
+    let mut sum = StaticSum::new(&mut samples, N).unwrap();
+    let mut frame = edge.start(&mut arena).unwrap();
+    for chirp_no in 0..cfg.chirps_per_frame() {
+        for rx in 0..4 {
+            let ch = (chirp_no % 2) * 4 + rx;
+            let p = cfg.channel_position(ch).unwrap() as f64;
+            let c = chirp(points, p);
+            edge.push(&mut frame, chirp_no, rx, &c).unwrap();
+            sum.push(edge.array().element_of(ch).unwrap(), &c).unwrap();
+        }
+    }
+    let (mut row, mut az, mut pw) = (
+        vec![CQ15::default(); edge.fft_len()],
+        vec![CQ15::default(); edge.azimuth_len()],
+        vec![0u64; 3 * edge.azimuth_len()],
+    );
+    let scene = edge.finish(frame, &mut row, &mut az, &mut pw).unwrap();
+    let (exponent, peaks) = (scene.spectra.exponent(), scene.peaks.clone());
+    let window: Vec<f32> = (0..N)
+        .map(|i| coefficient_f64(Edge::WINDOW, i, N) as f32)
+        .collect();
+    sum.finish(&window).unwrap();
+    Run {
+        edge,
+        arena,
+        exponent,
+        peaks,
+        samples,
+        window,
+    }
+}
+
+/// A car-like contour: 5 points across 6°, 0..0.6 m deep.
+const SHAPE: [(f64, f64); 5] = [
+    (-0.05, 0.3),
+    (-0.03, 0.1),
+    (0.0, 0.0),
+    (0.02, 0.15),
+    (0.05, 0.6),
+];
+
 #[test]
-fn coarse_to_fine_matches_brute_force_and_finds_the_object() {
-    let positions: Vec<f32> = (0..8).map(|p| p as f32).collect();
-    let (n, m, bin_m) = (64usize, 128usize, 0.1f64);
-    // A car-like contour: 5 points across 6°, 0..0.6 m deep, true closest point at 4.23 m.
-    let shape = [
-        (-0.05, 0.3),
-        (-0.03, 0.1),
-        (0.0, 0.0),
-        (0.02, 0.15),
-        (0.05, 0.6),
-    ];
+fn pipeline_cancels_clutter_and_matches_brute_force() {
     let depth = 4.23;
     let mut points: Vec<(f64, f64, f64)> =
-        shape.iter().map(|&(s, r)| (depth + r, s, 1.0)).collect();
+        SHAPE.iter().map(|&(s, r)| (depth + r, s, 150.0)).collect();
     // Clutter 15× stronger, 30° away and 2 m nearer.
-    points.push((2.2, 0.5, 15.0));
-    let (samples, spectra) = synth(&points, &positions, n, m, bin_m);
-    // The camera's contour: right shape, monocular ranges 7 m off (relative ranges survive).
-    let contour = Contour::new(shape.iter().map(|&(s, r)| (s as f32, (r + 7.0) as f32)));
-    let geo = Geometry {
-        positions: &positions,
-        samples: n,
-        fft_len: m,
-        bin_m: bin_m as f32,
+    points.push((2.2, 0.5, 2250.0));
+    let mut r = run(&points);
+    let hint = ObjectHint {
+        id: 7,
+        class: 1,
+        span: (-0.06, 0.06),
+        prior_m: 5.0, // the search starts at 2 m, before the clutter
+        contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, (rr + 11.0) as f32))),
     };
-    let range = (2.0, 100.0);
-    let reference = brute_force(&samples, &geo, &contour, range).unwrap();
-    let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * m];
-    let mut scores = vec![0.0; m];
-    let fast = coarse_to_fine(&spectra, &geo, &contour, range, &mut profiles, &mut scores).unwrap();
+    let mut scene =
+        dsp::pipeline::Scene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone()).unwrap();
+    let reflectors = r.edge.cancel(&scene, &hint);
+    assert!(
+        reflectors
+            .first()
+            .is_some_and(|c| (c.sin_az - 0.5).abs() < 0.03 && (c.range_bins - 22.0).abs() < 0.2),
+        "{reflectors:?}"
+    );
+    let mut scores = vec![0.0; r.edge.fft_len()];
+    let fast = r
+        .edge
+        .search(&mut scene, &hint, &reflectors, &mut scores)
+        .unwrap();
+    let geo = r.edge.geometry();
+    for c in &reflectors {
+        c.subtract_from(&mut r.samples, &geo, &r.window, r.exponent);
+    }
+    let bins = r.edge.bins(&hint);
+    let reference = brute_force(&r.samples, &geo, &hint.contour, bins).unwrap();
     let step = 1.0 / FINE_STEPS_PER_BIN as f32;
     assert!(
-        (fast.depth_bins - reference.depth_bins).abs() <= step + 1e-4,
+        (fast.search.depth_bins - reference.depth_bins).abs() <= step + 1e-4,
         "{fast:?} vs {reference:?}"
     );
     assert!(
-        (fast.depth_m as f64 - depth).abs() < 0.05,
+        (fast.search.depth_m as f64 - depth).abs() < 0.05,
         "depth {} m vs {depth} m",
-        fast.depth_m
+        fast.search.depth_m
     );
-    assert!(fast.peak > 10.0 * fast.floor);
+    assert!(fast.detected(), "{fast:?}");
     assert!(
-        fast.macs * 20 < reference.macs,
+        fast.search.macs * 5 < reference.macs,
         "{} vs {} MACs",
-        fast.macs,
+        fast.search.macs,
         reference.macs
     );
 }
 
 #[test]
-fn empty_and_bad_inputs_are_errors() {
-    let positions = [0.0f32; 4];
-    let geo = Geometry {
-        positions: &positions,
-        samples: 8,
-        fft_len: 16,
-        bin_m: 0.1,
+fn beam_domain_cancellation_equals_time_domain_subtraction() {
+    let points = [(3.37, 0.41, 3000.0), (5.0, -0.1, 100.0)];
+    let mut r = run(&points);
+    let hint = ObjectHint {
+        id: 1,
+        class: 0,
+        span: (-0.15, -0.05),
+        prior_m: 0.0,
+        contour: Contour::new([(-0.1f32, 0.0f32)]),
     };
+    let scene =
+        dsp::pipeline::Scene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone()).unwrap();
+    let reflectors = r.edge.cancel(&scene, &hint);
+    assert!(!reflectors.is_empty());
+    let geo = r.edge.geometry();
+    let mut cleaned = r.samples.clone();
+    for c in &reflectors {
+        c.subtract_from(&mut cleaned, &geo, &r.window, r.exponent);
+    }
+    // f64 DFT + beamforming of the cleaned time-domain sums vs the residual beams.
+    let scale = 2f64.powi(r.exponent);
+    let s = 0.41f32;
+    let residual = Residual::new(&scene.spectra, &geo, &reflectors, s);
+    let (mut before, mut after, mut worst) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 28..40 {
+        let (mut re, mut im) = (0.0f64, 0.0f64);
+        let (mut re0, mut im0) = (0.0f64, 0.0f64);
+        for (e, &p) in geo.positions.iter().enumerate() {
+            for n in 0..N {
+                let a = -2.0 * PI * (k * n) as f64 / N as f64 - PI * p as f64 * s as f64;
+                let (c, sn) = (a.cos(), a.sin());
+                let x = cleaned[e * N + n];
+                re += x.re as f64 * c - x.im as f64 * sn;
+                im += x.re as f64 * sn + x.im as f64 * c;
+                let x0 = r.samples[e * N + n];
+                re0 += x0.re as f64 * c - x0.im as f64 * sn;
+                im0 += x0.re as f64 * sn + x0.im as f64 * c;
+            }
+        }
+        let z = residual.at(k);
+        let (dr, di) = (z.re as f64 * scale - re, z.im as f64 * scale - im);
+        worst = worst.max((dr * dr + di * di).sqrt());
+        before = before.max((re0 * re0 + im0 * im0).sqrt());
+        after = after.max((re * re + im * im).sqrt());
+    }
+    // The reflector is gone (≥ 30 dB) and both domains agree to Q15 precision of the peak.
+    assert!(after < 0.03 * before, "{after} of {before}");
+    assert!(worst < 2e-3 * before, "worst {worst} of {before}");
+}
+
+#[test]
+fn bad_buffers_and_ranges_are_errors() {
+    let cfg = config();
+    let edge = Edge::new(&cfg).unwrap();
+    let mut small = vec![0u32; edge.arena_words() - 1];
+    assert!(edge.start(&mut small).is_err());
+    let mut arena = vec![0u32; edge.arena_words()];
+    let mut frame = edge.start(&mut arena).unwrap();
+    assert!(edge.push(&mut frame, 0, 4, &[CQ15::default(); N]).is_err());
+    assert!(
+        edge.push(&mut frame, 0, 0, &[CQ15::default(); N - 1])
+            .is_err()
+    );
+    let geo = edge.geometry();
     let c = Contour::new([(0.0f32, 1.0f32)]);
     assert!(brute_force(&[C32::new(0.0, 0.0); 31], &geo, &c, (1.0, 5.0)).is_err());
     assert!(
         brute_force(
-            &[C32::new(0.0, 0.0); 32],
+            &vec![C32::new(0.0, 0.0); 8 * N],
             &geo,
             &Contour::default(),
             (1.0, 5.0)
         )
         .is_err()
     );
-    let mut p = vec![C32::new(0.0, 0.0); 16];
-    let mut s = vec![0.0; 16];
-    assert!(
-        coarse_to_fine(
-            &[C32::new(0.0, 0.0); 64],
-            &geo,
-            &c,
-            (5.0, 1.0),
-            &mut p,
-            &mut s
-        )
-        .is_err()
-    );
-    assert!(
-        coarse_to_fine(
-            &[C32::new(0.0, 0.0); 64],
-            &geo,
-            &c,
-            (1.0, 5.0),
-            &mut p[..8],
-            &mut s
-        )
-        .is_err()
-    );
-    let _ = ContourPoint {
-        sin_az: 0.0,
-        rel_range_m: 0.0,
-    };
-}
-
-#[test]
-fn streaming_cancellation_equals_frame_cancellation() {
-    use dsp::clutter::sic::{SicScratch, cancel};
-    use dsp::fixed::CQ15;
-    use dsp::range::StaticSum;
-    let (n, m, loops) = (64usize, 64usize, 4usize);
-    let positions: Vec<f32> = (0..8).map(|p| p as f32).collect();
-    let window: Vec<f32> = (0..n)
-        .map(|k| (0.5 - 0.5 * (2.0 * PI * k as f64 / (n - 1) as f64).cos()) as f32)
-        .collect();
-    // One loop's chirp per channel: an object at broadside and a strong reflector at sin θ = 0.6.
-    let chirp = |p: f32| -> Vec<CQ15> {
-        (0..n)
-            .map(|k| {
-                let a = 2.0 * PI * 20.3 * k as f64 / m as f64;
-                let b = 2.0 * PI * 9.6 * k as f64 / m as f64 + PI * p as f64 * 0.6;
-                CQ15::from_f32(
-                    (0.01 * a.cos() + 0.3 * b.cos()) as f32,
-                    (0.01 * a.sin() + 0.3 * b.sin()) as f32,
-                )
-            })
-            .collect()
-    };
-    let geo = Geometry {
-        positions: &positions,
-        samples: n,
-        fft_len: m,
-        bin_m: 0.1,
-    };
-    // Frame level: sum, then cancel.
-    let mut samples = vec![C32::new(0.0, 0.0); 8 * n];
-    let mut sum = StaticSum::new(&mut samples, n).unwrap();
-    for (ch, &p) in positions.iter().enumerate() {
-        for _ in 0..loops {
-            sum.push(ch, &chirp(p)).unwrap();
-        }
-    }
-    let mut spectra = vec![C32::new(0.0, 0.0); 8 * m];
-    sum.finish(&window, &mut spectra).unwrap();
-    let (mut el, mut tone) = (vec![C32::new(0.0, 0.0); 32], vec![C32::new(0.0, 0.0); m]);
-    let found = cancel(
-        &mut spectra,
-        &mut samples,
-        &geo,
-        &window,
-        &[(-0.2, 0.2)],
-        m - 4,
-        0.05,
-        SicScratch {
-            elements: &mut el,
-            tone: &mut tone,
-        },
-    );
-    assert!(
-        !found.is_empty()
-            && (found[0].sin_az - 0.6).abs() < 0.03
-            && (found[0].range_bins - 9.6).abs() < 0.2,
-        "{found:?}"
-    );
-    // Streaming: the same reflectors removed chirp by chirp.
-    let mut streamed = vec![C32::new(0.0, 0.0); 8 * n];
-    let mut sum = StaticSum::new(&mut streamed, n).unwrap();
-    for (ch, &p) in positions.iter().enumerate() {
-        for _ in 0..loops {
-            sum.push_cancelled(ch, &chirp(p), p, &found, loops, m)
-                .unwrap();
-        }
-    }
-    let mut streamed_spectra = vec![C32::new(0.0, 0.0); 8 * m];
-    sum.finish(&window, &mut streamed_spectra).unwrap();
-    let scale = samples.iter().map(|z| z.norm()).fold(0.0f32, f32::max);
-    for (a, b) in samples.iter().zip(&streamed) {
-        assert!((a - b).norm() < 1e-4 * scale.max(1.0), "{a} vs {b}");
-    }
+    assert!(brute_force(&vec![C32::new(0.0, 0.0); 8 * N], &geo, &c, (5.0, 1.0)).is_err());
 }

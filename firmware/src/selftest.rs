@@ -177,91 +177,84 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
     emit(search_workload());
 }
 
-/// Static sums, SIC and the depth search on a synthetic 8-channel, 64-sample frame: a contour
-/// object at bin 20.3 and a strong reflector elsewhere.
+/// The module pipeline (`dsp::pipeline`: frame sums, in-place range spectra, peak scan, SIC,
+/// depth search) on a synthetic 2 TX × 4 RX, 64-sample frame: a contour object at bin 20.3 and a
+/// strong reflector at bin 9.6, 35° away.
 fn search_workload() -> Outcome {
-    use dsp::clutter::sic::{SicScratch, cancel};
-    use dsp::fft::C32;
-    use dsp::range::StaticSum;
+    use dsp::config::RadarConfig;
+    use dsp::pipeline::{Edge, ObjectHint};
     use dsp::search::Contour;
-    use dsp::search::depth::{Geometry, coarse_to_fine};
     const N: usize = 64;
-    const C: usize = 8;
     let failed = |hash| Outcome {
         name: "search_sic",
         exponent: u32::MAX,
         hash,
     };
-    let positions: [f32; C] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
-    let window: [f32; N] = core::array::from_fn(|n| {
-        dsp::window::coefficient_f64(dsp::window::WindowKind::Hann, n, N) as f32
-    });
-    let mut samples = [C32::new(0.0, 0.0); C * N];
-    let mut spectra = [C32::new(0.0, 0.0); C * N];
-    let Ok(mut sum) = StaticSum::new(&mut samples, N) else {
+    let config = RadarConfig {
+        start_frequency_hz: 77.0e9,
+        slope_hz_per_s: 2.342e14,
+        sample_rate_hz: 10.0e6,
+        adc_samples: N as u16,
+        chirp_period_s: 10.0e-6,
+        chirps_per_tx: 2,
+        frames: 1,
+        frame_period_s: 0.1,
+        tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap_or_default(),
+        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap_or_default(),
+        tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap_or_default(),
+    };
+    let Ok(edge) = Edge::new(&config) else {
         return failed(0);
     };
-    for (ch, &p) in positions.iter().enumerate() {
-        let mut chirp = [CQ15::default(); N];
-        for (n, z) in chirp.iter_mut().enumerate() {
-            let turns = |bin: f64, extra: f64| {
-                dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
-            };
-            let a = dsp::trig::expj_neg(turns(20.3, 0.0));
-            let b = dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
-            *z = CQ15::from_raw(a.re.0 / 64 + b.re.0 / 4, a.im.0 / 64 + b.im.0 / 4);
-        }
-        if sum.push(ch, &chirp).is_err() {
-            return failed(1);
+    let mut arena = [0u32; 4608];
+    let Ok(mut frame) = edge.start(&mut arena) else {
+        return failed(1);
+    };
+    for chirp_no in 0..4 {
+        for rx in 0..4 {
+            let p = config
+                .channel_position((chirp_no % 2) * 4 + rx)
+                .unwrap_or(0);
+            let mut chirp = [CQ15::default(); N];
+            for (n, z) in chirp.iter_mut().enumerate() {
+                let turns = |bin: f64, extra: f64| {
+                    dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
+                };
+                let a = dsp::trig::expj_neg(turns(20.3, 0.0));
+                let b = dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
+                *z = CQ15::from_raw(a.re.0 / 64 + b.re.0 / 4, a.im.0 / 64 + b.im.0 / 4);
+            }
+            if edge.push(&mut frame, chirp_no, rx, &chirp).is_err() {
+                return failed(2);
+            }
         }
     }
-    if sum.finish(&window, &mut spectra).is_err() {
-        return failed(2);
-    }
-    let geo = Geometry {
-        positions: &positions,
-        samples: N,
-        fft_len: N,
-        bin_m: 0.1,
+    let (mut row, mut az, mut powers) = ([CQ15::default(); N], [CQ15::default(); 16], [0u64; 48]);
+    let Ok(mut scene) = edge.finish(frame, &mut row, &mut az, &mut powers) else {
+        return failed(3);
     };
-    let (mut el, mut tone) = ([C32::new(0.0, 0.0); 32], [C32::new(0.0, 0.0); N]);
-    let scratch = SicScratch {
-        elements: &mut el,
-        tone: &mut tone,
+    let hint = ObjectHint {
+        id: 1,
+        class: 0,
+        span: (-0.04, 0.04),
+        prior_m: 0.0,
+        contour: Contour::new((0..4).map(|i| (-0.03 + 0.02 * i as f32, 5.0 + 0.05 * i as f32))),
     };
-    let found = cancel(
-        &mut spectra,
-        &mut samples,
-        &geo,
-        &window,
-        &[(-0.2, 0.2)],
-        N - 4,
-        0.05,
-        scratch,
-    );
-    let contour = Contour::new((0..4).map(|i| (-0.03 + 0.02 * i as f32, 5.0 + 0.05 * i as f32)));
-    let mut profiles = [C32::new(0.0, 0.0); 4 * N];
-    let mut scores = [0.0f32; N];
     let mut h = Fnv::default();
-    for r in &found {
+    let reflectors = edge.cancel(&scene, &hint);
+    for r in &reflectors {
         h.u32(r.range_bins.to_bits());
         h.u32(r.amplitude.re.to_bits());
     }
-    match coarse_to_fine(
-        &spectra,
-        &geo,
-        &contour,
-        (1.0, (N - 4) as f32),
-        &mut profiles,
-        &mut scores,
-    ) {
+    let mut scores = [0.0f32; N];
+    match edge.search(&mut scene, &hint, &reflectors, &mut scores) {
         Ok(r) => {
-            h.u32(r.depth_bins.to_bits());
-            h.u32(r.peak.to_bits());
-            h.u32(r.floor.to_bits());
+            h.u32(r.search.depth_bins.to_bits());
+            h.u32(r.search.peak.to_bits());
+            h.u32(r.search.floor.to_bits());
             Outcome {
                 name: "search_sic",
-                exponent: found.len() as u32,
+                exponent: reflectors.len() as u32,
                 hash: h.0,
             }
         }

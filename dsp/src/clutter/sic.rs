@@ -1,23 +1,34 @@
-//! Successive interference cancellation (Metamoran, Sec. III-B): strong reflectors outside the
-//! object's azimuth span are estimated as point reflectors — range, azimuth, and a complex
-//! amplitude fitted to the data (the paper's "α equal to the peak") — their synthesized signal
-//! (Eq. 1) is subtracted, and the next strongest is taken, until what is left outside the span
-//! is weak next to the strongest return inside it (the caller's ratio; inside the span at short
-//! range, that "return" is often itself the side lobes being cancelled), or [`MAX_REFLECTORS`]
-//! are gone.
+//! Successive interference cancellation (Metamoran, Sec. III-B), in the beam domain.
 //!
-//! It works on a frame's static sums ([`crate::range::StaticSum`]): the windowed samples and
-//! their spectra are both updated, so a matched filter on either sees the cleaned scene. The
-//! static sums fill chirp by chirp as the frame streams in; cancellation then runs once per
-//! frame. Memory: the caller's `channels × (N + M)` sums plus `M + Nₐ` scratch values and at most
-//! [`MAX_REFLECTORS`] estimates: bounded by the configuration, not by the scene.
+//! Strong reflectors outside the object's azimuth span are taken from the frame's peak list
+//! ([`super::peaks`]), strongest first. Each is estimated as a point reflector: range and
+//! azimuth refined by parabolas (in dB) through its neighbours, complex amplitude `α` fitted by
+//! least squares over its main lobe (the paper's "α equal to the peak"). Its synthesized
+//! response `α·T(k − r)·AF(s_r − s)` ([`crate::search::kernel`]) is then subtracted from every
+//! later beam, so the next estimate sees the residual. It stops when the next reflector outside
+//! has no more than `stop_ratio` times the power of the strongest peak inside the span, or after
+//! [`MAX_REFLECTORS`].
+//!
+//! Nothing is subtracted from the shared spectra: the search subtracts the same responses from
+//! its beams. So objects of one frame never copy the spectra, and the state per object is the
+//! reflector list, at most [`MAX_REFLECTORS`] × 280 bytes, whatever the scene.
 
-use crate::fft::{C32, cfft_f32};
+use super::peaks::Peak;
+use crate::fft::C32;
+use crate::range::Spectra;
+use crate::search::beam::Steering;
 use crate::search::depth::Geometry;
+use crate::search::kernel::{SPREAD, array_factor, window_transform};
 use heapless::Vec;
 
 /// Most reflectors cancelled per object.
 pub const MAX_REFLECTORS: usize = 32;
+
+/// Bins on each side of a reflector over which its amplitude is fitted.
+const FIT_HALF_WIDTH: usize = 6;
+
+/// Values of a reflector's synthesized spectrum kept (its bin ± [`SPREAD`]).
+pub const TONE_LEN: usize = 2 * SPREAD + 1;
 
 /// A cancelled reflector.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,36 +37,111 @@ pub struct Reflector {
     pub range_bins: f32,
     /// sin(azimuth).
     pub sin_az: f32,
-    /// Fitted complex amplitude (windowed-sum units).
+    /// Fitted complex amplitude, in the spectra's stored units per unit window gain.
     pub amplitude: C32,
+    /// First bin of `tone`.
+    first: usize,
+    /// `α·T(k − r)` for bins `first..first + TONE_LEN`.
+    tone: [C32; TONE_LEN],
 }
 
-/// Scratch for [`cancel`]: `elements` of the azimuth FFT length (a power of two ≥ the array
-/// span), `tone` of M.
-pub struct SicScratch<'a> {
-    /// Azimuth FFT buffer.
-    pub elements: &'a mut [C32],
-    /// One reflector's spectrum.
-    pub tone: &'a mut [C32],
-}
-
-fn steer(p: f32, s: f32) -> C32 {
-    let a = -core::f32::consts::PI * p * s;
-    C32::new(libm::cosf(a), libm::sinf(a))
-}
-
-fn norm2(z: C32) -> f32 {
-    z.re * z.re + z.im * z.im
-}
-
-/// Beamformed value of bin `k` toward `s`.
-fn beam(spectra: &[C32], geo: &Geometry<'_>, k: usize, s: f32) -> C32 {
-    let m = geo.fft_len;
-    let mut acc = C32::new(0.0, 0.0);
-    for (ch, &p) in geo.positions.iter().enumerate() {
-        acc += spectra[ch * m + k] * steer(p, s);
+impl Reflector {
+    /// A reflector at `range_bins`, `sin_az` with amplitude `amplitude`, its spectrum synthesized
+    /// for `geo`. O([`TONE_LEN`]).
+    pub fn new(geo: &Geometry<'_>, range_bins: f32, sin_az: f32, amplitude: C32) -> Self {
+        let first = (libm::floorf(range_bins) as usize).saturating_sub(SPREAD);
+        let mut tone = [C32::new(0.0, 0.0); TONE_LEN];
+        for (i, t) in tone.iter_mut().enumerate() {
+            let x = (first + i) as f32 - range_bins;
+            *t = amplitude * window_transform(geo.window, x, geo.samples, geo.fft_len);
+        }
+        Self {
+            range_bins,
+            sin_az,
+            amplitude,
+            first,
+            tone,
+        }
     }
-    acc
+
+    /// Subtracts this reflector from windowed time-domain sums (`elements × N`, the input of
+    /// [`crate::search::depth::brute_force`]) whose spectra have block exponent `exponent`:
+    /// element e loses `α·2^exponent·cₑ·exp(jπ·pₑ·s)·w[n]·exp(j2π·r·n/M)`. O(E·N).
+    pub fn subtract_from(
+        &self,
+        samples: &mut [C32],
+        geo: &Geometry<'_>,
+        window: &[f32],
+        exponent: i32,
+    ) {
+        let scale = libm::powf(2.0, exponent as f32);
+        let w = 2.0 * core::f32::consts::PI * self.range_bins / geo.fft_len as f32;
+        for ((row, &p), &c) in samples
+            .chunks_exact_mut(geo.samples)
+            .zip(geo.positions)
+            .zip(geo.counts)
+        {
+            let a = core::f32::consts::PI * p as f32 * self.sin_az;
+            let gain = self.amplitude * C32::new(libm::cosf(a), libm::sinf(a)) * (scale * c as f32);
+            for (n, (x, &wn)) in row.iter_mut().zip(window).enumerate() {
+                let ph = w * n as f32;
+                *x -= gain * C32::new(libm::cosf(ph), libm::sinf(ph)) * wn;
+            }
+        }
+    }
+
+    /// `α·T(k − r)`, zero beyond ± [`SPREAD`] bins.
+    #[inline]
+    pub fn tone_at(&self, k: usize) -> C32 {
+        k.checked_sub(self.first)
+            .and_then(|i| self.tone.get(i))
+            .copied()
+            .unwrap_or(C32::new(0.0, 0.0))
+    }
+}
+
+/// Beams toward one direction with the cancelled reflectors subtracted.
+pub struct Residual<'s, 'a> {
+    spectra: &'s Spectra<'a>,
+    steering: Steering,
+    /// `AF(s_r − s)` per reflector.
+    gains: Vec<C32, MAX_REFLECTORS>,
+    reflectors: &'s [Reflector],
+}
+
+impl<'s, 'a> Residual<'s, 'a> {
+    /// Toward `sin_az`. O(E·(1 + R)).
+    pub fn new(
+        spectra: &'s Spectra<'a>,
+        geo: &Geometry<'_>,
+        reflectors: &'s [Reflector],
+        sin_az: f32,
+    ) -> Self {
+        Self {
+            spectra,
+            steering: Steering::new(geo.positions, sin_az),
+            gains: reflectors
+                .iter()
+                .map(|r| array_factor(geo.positions, geo.counts, r.sin_az - sin_az))
+                .collect(),
+            reflectors,
+        }
+    }
+
+    /// The residual beam at bin `k`. O(E + R).
+    #[inline]
+    pub fn at(&self, k: usize) -> C32 {
+        let mut b = self.steering.beam(self.spectra, k);
+        for (r, &g) in self.reflectors.iter().zip(&self.gains) {
+            b -= r.tone_at(k) * g;
+        }
+        b
+    }
+
+    /// Its power at bin `k`.
+    pub fn power(&self, k: usize) -> f32 {
+        self.at(k).norm_sqr()
+    }
 }
 
 fn quad(l: f32, c: f32, r: f32) -> f32 {
@@ -63,134 +149,65 @@ fn quad(l: f32, c: f32, r: f32) -> f32 {
     crate::detect::quadratic_offset(db(l), db(c), db(r))
 }
 
-/// Cancels reflectors outside the sin-azimuth intervals `keep` (the object's span, widened by
-/// the caller by a main-lobe width) from range bins `1..max_bin`, strongest first, while the
-/// strongest one left outside has more than `stop_ratio` times the power of the strongest cell
-/// inside. Returns what it cancelled. O(iterations · M · (C + Nₐ log Nₐ)).
-#[allow(clippy::too_many_arguments)]
+/// Cancels reflectors from `peaks` (of an `na`-point azimuth FFT, strongest first) that lie
+/// outside the sin-azimuth intervals `keep` (the object's span, widened by the caller by a main
+/// lobe), while the next one has more than `stop_ratio` times the power of the strongest peak
+/// inside. Returns them in the order cancelled. O(R²·E) per frame object.
 pub fn cancel(
-    spectra: &mut [C32],
-    samples: &mut [C32],
+    spectra: &Spectra<'_>,
     geo: &Geometry<'_>,
-    window: &[f32],
+    peaks: &[Peak],
+    na: usize,
     keep: &[(f32, f32)],
-    max_bin: usize,
     stop_ratio: f32,
-    scratch: SicScratch<'_>,
 ) -> Vec<Reflector, MAX_REFLECTORS> {
-    let (c, n, m) = (geo.positions.len(), geo.samples, geo.fft_len);
-    let mut out = Vec::new();
-    let na = scratch.elements.len();
-    if spectra.len() != c * m
-        || samples.len() != c * n
-        || window.len() != n
-        || scratch.tone.len() != m
-        || c == 0
-    {
-        return out;
-    }
-    let pmin = geo.positions.iter().copied().fold(f32::INFINITY, f32::min);
-    let index: Vec<usize, 256> = geo
-        .positions
-        .iter()
-        .map(|&p| libm::roundf(p - pmin) as usize)
-        .take(256)
-        .collect();
-    if index.iter().any(|&i| i >= na) {
-        return out;
-    }
+    let mut out: Vec<Reflector, MAX_REFLECTORS> = Vec::new();
+    let m = spectra.bins();
     let inside = |s: f32| keep.iter().any(|&(lo, hi)| s >= lo && s <= hi);
-    let sin_of = |j: usize| 2.0 * crate::units::signed_bin(j, na) as f32 / na as f32;
-    while out.len() < MAX_REFLECTORS {
-        let (mut best_out, mut best_in) = ((0.0f32, 0usize, 0usize), 0.0f32);
-        for k in 1..max_bin.min(m) {
-            scratch.elements.fill(C32::new(0.0, 0.0));
-            for (ch, &i) in index.iter().enumerate() {
-                scratch.elements[i] += spectra[ch * m + k];
-            }
-            if cfft_f32(scratch.elements).is_err() {
-                return out;
-            }
-            // The FFT computes Σ x·exp(−j2πjp/Nₐ): direction sin θ = 2j/Nₐ.
-            for (j, z) in scratch.elements.iter().enumerate() {
-                let s = sin_of(j);
-                if s.abs() > 1.0 {
-                    continue;
-                }
-                let pw = norm2(*z);
-                if inside(s) {
-                    best_in = best_in.max(pw);
-                } else if pw > best_out.0 {
-                    best_out = (pw, k, j);
-                }
-            }
+    let best_in = peaks
+        .iter()
+        .filter(|p| inside(p.sin_az(na)))
+        .map(|p| p.power)
+        .max()
+        .unwrap_or(0) as f32;
+    let threshold = stop_ratio * best_in;
+    let channels: f32 = geo.counts.iter().map(|&c| c as f32).sum();
+    for peak in peaks {
+        let s0 = peak.sin_az(na);
+        if inside(s0) {
+            continue;
         }
-        let (pw, k, j) = best_out;
-        if pw <= stop_ratio * best_in || pw == 0.0 {
+        if peak.power as f32 <= threshold || out.is_full() {
             break;
         }
-        // Refine range and azimuth by parabolas through the neighbours (in dB).
-        let s0 = sin_of(j);
+        let k = peak.bin as usize;
+        if k == 0 || k + 1 >= m {
+            continue;
+        }
+        let here = Residual::new(spectra, geo, &out, s0);
+        let pw = here.power(k);
+        if pw <= threshold {
+            continue; // it was a side lobe of one already cancelled
+        }
         let ds = 2.0 / na as f32;
-        let at = |kk: usize, s: f32| norm2(beam(spectra, geo, kk, s));
-        let dr = if k + 1 < m {
-            quad(at(k - 1, s0), pw, at(k + 1, s0))
-        } else {
-            0.0
-        };
-        let da = quad(at(k, s0 - ds), pw, at(k, s0 + ds));
+        let dr = quad(here.power(k - 1), pw, here.power(k + 1));
+        let left = Residual::new(spectra, geo, &out, s0 - ds).power(k);
+        let right = Residual::new(spectra, geo, &out, s0 + ds).power(k);
+        let da = quad(left, pw, right);
         let (r, s) = (k as f32 + dr, (s0 + da * ds).clamp(-1.0, 1.0));
-        // The reflector's spectrum: window · exp(j2π r n / M), transformed.
-        let w = 2.0 * core::f32::consts::PI * r / m as f32;
-        scratch.tone.fill(C32::new(0.0, 0.0));
-        for (nn, (t, &wv)) in scratch.tone.iter_mut().zip(window).enumerate() {
-            let a = w * nn as f32;
-            *t = C32::new(libm::cosf(a), libm::sinf(a)) * wv;
-        }
-        if cfft_f32(scratch.tone).is_err() {
-            return out;
-        }
-        // Least-squares amplitude over the main lobe (±6 bins) of every channel.
-        let (lo, hi) = (k.saturating_sub(6), (k + 7).min(m));
+        // Least squares over the main lobe: α = Σ T*·R(k, s) / (C·Σ|T|²).
+        let at = Residual::new(spectra, geo, &out, s);
         let (mut num, mut den) = (C32::new(0.0, 0.0), 0.0f32);
-        for (ch, &p) in geo.positions.iter().enumerate() {
-            let e = steer(p, s).conj(); // exp(+jπ p s)
-            for kk in lo..hi {
-                let model = e * scratch.tone[kk];
-                num += model.conj() * spectra[ch * m + kk];
-                den += norm2(model);
-            }
+        for kk in k.saturating_sub(FIT_HALF_WIDTH)..(k + FIT_HALF_WIDTH + 1).min(m) {
+            let t = window_transform(geo.window, kk as f32 - r, geo.samples, geo.fft_len);
+            num += t.conj() * at.at(kk);
+            den += t.norm_sqr();
         }
-        if den <= 0.0 {
+        if den <= 0.0 || channels <= 0.0 {
             break;
         }
-        let alpha = num / den;
-        // Subtract from spectra and samples.
-        for (ch, &p) in geo.positions.iter().enumerate() {
-            let e = steer(p, s).conj() * alpha;
-            for (x, &t) in spectra[ch * m..(ch + 1) * m]
-                .iter_mut()
-                .zip(scratch.tone.iter())
-            {
-                *x -= e * t;
-            }
-            for (nn, (x, &wv)) in samples[ch * n..(ch + 1) * n]
-                .iter_mut()
-                .zip(window)
-                .enumerate()
-            {
-                let a = w * nn as f32;
-                *x -= e * C32::new(libm::cosf(a), libm::sinf(a)) * wv;
-            }
-        }
-        if out
-            .push(Reflector {
-                range_bins: r,
-                sin_az: s,
-                amplitude: alpha,
-            })
-            .is_err()
-        {
+        let alpha = num / (den * channels);
+        if out.push(Reflector::new(geo, r, s, alpha)).is_err() {
             break;
         }
     }

@@ -2,9 +2,11 @@
 //! caller-owned [`RangeCube`].
 
 mod cube;
+pub mod frame_sum;
 mod processor;
 mod static_sum;
 
 pub use cube::RangeCube;
+pub use frame_sum::{FrameSum, Spectra};
 pub use processor::{RangeError, RangeProcessor};
 pub use static_sum::StaticSum;

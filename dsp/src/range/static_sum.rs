@@ -1,9 +1,10 @@
-//! The static scene of a frame: chirps summed over loops per virtual channel, as they arrive,
-//! then windowed and transformed (`f32`, microfft). This is what the depth search and SIC work on
-//! for static objects. Memory: `channels × (N + M)` complex values, caller-owned.
+//! The static scene of a frame in `f32`: chirps summed over loops per row (channel or element),
+//! then windowed, in ADC LSB units (as [`super::FrameSum`]'s sums). The host's reference matched filter (`search::depth::brute_force`) runs on
+//! these; the module works on [`super::FrameSum`]. Memory: `rows × N` complex values,
+//! caller-owned.
 
 use super::RangeError;
-use crate::fft::{C32, cfft_f32};
+use crate::fft::C32;
 use crate::fixed::CQ15;
 
 /// Accumulates chirps per channel over the loops of a frame.
@@ -51,50 +52,17 @@ impl<'a> StaticSum<'a> {
             });
         }
         for (o, z) in row.iter_mut().zip(chirp) {
-            o.re += z.re.to_f32();
-            o.im += z.im.to_f32();
+            o.re += z.re.0 as f32;
+            o.im += z.im.0 as f32;
         }
         Ok(())
     }
 
-    /// Adds one chirp of one channel at virtual position `position` (half-wavelengths) with the
-    /// reflectors already known (e.g. cancelled in the previous frame of a static scene) removed
-    /// as it streams in: each contributes `α / loops · exp(jπ·p·sin θ) · exp(j2π·r·n/M)` per
-    /// chirp. Windowing the sum later gives exactly the frame-level cancellation. O(R·N); the
-    /// state is the reflector list, at most [`crate::clutter::sic::MAX_REFLECTORS`] entries.
+    /// Windows the sums in place (`window.len() == N`) and returns them (`rows × N`). O(C·N).
     ///
     /// # Errors
-    /// [`RangeError`] for a channel out of range or a wrong sample count.
-    pub fn push_cancelled(
-        &mut self,
-        channel: usize,
-        chirp: &[CQ15],
-        position: f32,
-        reflectors: &[crate::clutter::sic::Reflector],
-        loops: usize,
-        fft_len: usize,
-    ) -> Result<(), RangeError> {
-        self.push(channel, chirp)?;
-        let row = &mut self.samples[channel * self.n..(channel + 1) * self.n];
-        for r in reflectors {
-            let a = core::f32::consts::PI * position * r.sin_az;
-            let gain = C32::new(libm::cosf(a), libm::sinf(a)) * r.amplitude / loops.max(1) as f32;
-            let w = 2.0 * core::f32::consts::PI * r.range_bins / fft_len as f32;
-            for (k, x) in row.iter_mut().enumerate() {
-                let ph = w * k as f32;
-                *x -= gain * C32::new(libm::cosf(ph), libm::sinf(ph));
-            }
-        }
-        Ok(())
-    }
-
-    /// Windows the sums (`window.len() == N`) in place and writes their `M`-point spectra
-    /// into `spectra` (`channels × M`). O(C·M log M).
-    ///
-    /// # Errors
-    /// [`RangeError`] for wrong buffer sizes or an unsupported `M`.
-    pub fn finish(self, window: &[f32], spectra: &mut [C32]) -> Result<(), RangeError> {
-        let rows = self.samples.len() / self.n;
+    /// [`RangeError::Buffer`] for a window of the wrong length.
+    pub fn finish(self, window: &[f32]) -> Result<&'a mut [C32], RangeError> {
         if window.len() != self.n {
             return Err(RangeError::Buffer {
                 what: "window",
@@ -102,26 +70,11 @@ impl<'a> StaticSum<'a> {
                 got: window.len(),
             });
         }
-        if spectra.len() % rows.max(1) != 0 || spectra.len() / rows.max(1) < self.n {
-            return Err(RangeError::Buffer {
-                what: "spectra",
-                expected: rows * self.n,
-                got: spectra.len(),
-            });
-        }
-        let m = spectra.len() / rows.max(1);
-        for (row, out) in self
-            .samples
-            .chunks_exact_mut(self.n)
-            .zip(spectra.chunks_exact_mut(m))
-        {
+        for row in self.samples.chunks_exact_mut(self.n) {
             for (x, &w) in row.iter_mut().zip(window) {
                 *x = *x * w;
             }
-            out[..self.n].copy_from_slice(row);
-            out[self.n..].fill(C32::new(0.0, 0.0));
-            cfft_f32(out)?;
         }
-        Ok(())
+        Ok(self.samples)
     }
 }

@@ -3,35 +3,47 @@
 //! same fine grid of [`FINE_STEPS_PER_BIN`] steps per range bin, and count their complex
 //! multiply-accumulates.
 //!
-//! * [`brute_force`]: for every fine depth and contour point, the matched filter on the raw
-//!   (windowed, static) samples of every channel: `C·N` MACs each, `D·K·C·N` in all.
-//! * [`coarse_to_fine`]: beamform the range spectra toward each point once (`K·C·M` MACs for M
-//!   bins), score every depth on the bin grid (`K` lookups each), then evaluate `P` exactly on
-//!   the fine grid (Dirichlet interpolation of the zero-padded spectrum, `M` MACs per point)
-//!   only within ±1 bin of the best [`CANDIDATES`] coarse depths.
+//! * [`brute_force`]: for every fine depth and contour point, the matched filter on the windowed
+//!   samples of every element: `E·N` MACs each, `D·K·E·N` in all (`f32`; the reference).
+//! * [`coarse_to_fine`]: beamform the fixed-point range spectra toward each point once, in exact
+//!   integer arithmetic, over the bins the search can reach ([`super::beam`]), with the cancelled
+//!   reflectors' responses subtracted; score every depth on the bin grid (`K` lookups each);
+//!   then evaluate `P` on the fine grid (Dirichlet interpolation of the zero-padded spectrum
+//!   over ±[`INTERP_HALF_WIDTH`] bins) only within ±1 bin of the best [`CANDIDATES`] coarse
+//!   depths.
 //!
-//! Arithmetic is `f32` (the M7 has a single-precision FPU; IEEE operations and `libm` give the
-//! same bits on every platform).
+//! The hot loop (beams: `K·E·bins` MACs) is integer; the few scores and interpolations are
+//! `f32` with `libm` (the M7 has a single-precision FPU; IEEE operations give the same bits on
+//! every platform).
 
 use super::contour::Contour;
-use super::dirichlet::dirichlet;
+use super::kernel::for_each_weight;
+use crate::clutter::sic::{Reflector, Residual};
 pub use crate::fft::C32;
+use crate::range::Spectra;
+use crate::window::WindowKind;
 use core::fmt;
 
 /// Fine depth steps per range bin.
 pub const FINE_STEPS_PER_BIN: usize = 4;
 /// Coarse candidates refined.
 pub const CANDIDATES: usize = 3;
+/// Bins on each side of a fractional bin that its interpolation uses.
+pub const INTERP_HALF_WIDTH: usize = 24;
 
 /// What the search needs to know about the radar.
 #[derive(Clone, Copy, Debug)]
 pub struct Geometry<'a> {
-    /// Virtual position of each channel, half-wavelengths.
-    pub positions: &'a [f32],
+    /// Position of each virtual element, half-wavelengths from the first (ascending).
+    pub positions: &'a [u16],
+    /// Channels summed into each element.
+    pub counts: &'a [u8],
     /// ADC samples per chirp (N).
     pub samples: usize,
     /// Range FFT length (M ≥ N).
     pub fft_len: usize,
+    /// Range window.
+    pub window: WindowKind,
     /// Metres per range bin of the M-point FFT.
     pub bin_m: f32,
 }
@@ -115,8 +127,8 @@ fn norm2(z: C32) -> f32 {
 }
 
 /// Brute-force reference: `P` at every fine depth in `bins` (range bins, inclusive start,
-/// exclusive end) from the raw samples, `channels × samples` complex values, already windowed
-/// and summed over loops.
+/// exclusive end) from the samples, `elements × N` complex values summed over loops and the
+/// channels of each element, windowed, with any cancelled reflectors already subtracted.
 ///
 /// # Errors
 /// [`SearchError`] for an empty contour, an empty range or a wrong buffer size.
@@ -154,7 +166,7 @@ pub fn brute_force(
                         t = C32::new(libm::cosf(a), libm::sinf(a));
                     }
                 }
-                acc += sum * steer(geo.positions[ch], pt.sin_az);
+                acc += sum * steer(geo.positions[ch] as f32, pt.sin_az);
             }
             macs += (c * n) as u64;
             p += norm2(acc);
@@ -182,58 +194,103 @@ fn fine_steps(bins: (f32, f32), m: usize) -> Result<usize, SearchError> {
     Ok(((hi - lo) * FINE_STEPS_PER_BIN as f32) as usize)
 }
 
-/// Production search from the range spectra (`channels × fft_len`, windowed, summed over loops).
-/// `profiles` is scratch of `contour.points().len() × fft_len`, `scores` of `fft_len`.
+/// Beams toward each contour point over a run of bins, stored as `f32` pairs in caller-owned
+/// words (so the firmware can lend the frame arena's free words).
+struct Profiles<'w> {
+    words: &'w mut [u32],
+    first: usize,
+    len: usize,
+}
+
+impl Profiles<'_> {
+    fn get(&self, point: usize, bin: usize) -> C32 {
+        match bin.checked_sub(self.first) {
+            Some(i) if i < self.len => {
+                let at = 2 * (point * self.len + i);
+                C32::new(
+                    f32::from_bits(self.words[at]),
+                    f32::from_bits(self.words[at + 1]),
+                )
+            }
+            _ => C32::new(0.0, 0.0),
+        }
+    }
+
+    fn set(&mut self, point: usize, i: usize, z: C32) {
+        let at = 2 * (point * self.len + i);
+        self.words[at] = z.re.to_bits();
+        self.words[at + 1] = z.im.to_bits();
+    }
+}
+
+/// Words of scratch [`coarse_to_fine`] needs for `points` contour points and an `m`-bin spectrum
+/// (an upper bound: the beams of every point over every bin).
+pub const fn profile_words(points: usize, m: usize) -> usize {
+    2 * points * m
+}
+
+/// Production search from the fixed-point range spectra (windowed, summed over loops), with the
+/// `reflectors` SIC cancelled subtracted from every beam. `profiles` is scratch of
+/// [`profile_words`] words, `scores` of `M` values.
 ///
 /// # Errors
 /// [`SearchError`] for an empty contour, an empty range or a wrong buffer size.
 pub fn coarse_to_fine(
-    spectra: &[C32],
+    spectra: &Spectra<'_>,
     geo: &Geometry<'_>,
     contour: &Contour,
     bins: (f32, f32),
-    profiles: &mut [C32],
+    reflectors: &[Reflector],
+    profiles: &mut [u32],
     scores: &mut [f32],
 ) -> Result<SearchResult, SearchError> {
-    let (c, m) = (geo.positions.len(), geo.fft_len);
+    let (e, m) = (geo.positions.len(), geo.fft_len);
     let k = contour.points().len();
-    check("spectra", c * m, spectra.len())?;
+    check("spectra bins", m, spectra.bins())?;
+    check("spectra elements", e, spectra.elements())?;
     if k == 0 {
         return Err(SearchError::EmptyContour);
     }
-    check("profiles", k * m, profiles.len())?;
     check("scores", m, scores.len())?;
     fine_steps(bins, m)?;
-    let mut macs = 0u64;
-    // 1. Beamform toward each contour point: K·C·M.
-    for (pt, prof) in contour.points().iter().zip(profiles.chunks_exact_mut(m)) {
-        prof.fill(C32::new(0.0, 0.0));
-        for (ch, row) in spectra.chunks_exact(m).enumerate() {
-            let w = steer(geo.positions[ch], pt.sin_az);
-            for (o, &x) in prof.iter_mut().zip(row) {
-                *o += x * w;
-            }
-        }
-        macs += (c * m) as u64;
-    }
-    // 2. Coarse scores on the bin grid.
-    let offsets = |pt: &super::ContourPoint| libm::roundf(pt.rel_range_m / geo.bin_m) as usize;
+    let offset = |rel_m: f32| libm::roundf(rel_m / geo.bin_m) as usize;
     let (lo, hi) = (
         libm::ceilf(bins.0) as usize,
         (libm::floorf(bins.1) as usize).min(m - 1),
     );
+    // Bins any stage reads: coarse d + offset, fine d ± 1 + rel ± the interpolation width.
+    let reach = offset(contour.depth_extent()) + 2;
+    let first = lo.saturating_sub(INTERP_HALF_WIDTH + 2);
+    let len = (hi + reach + INTERP_HALF_WIDTH + 2).min(m) - first;
+    let need = 2 * k * len;
+    let Some(words) = profiles.get_mut(..need) else {
+        return Err(SearchError::Buffer {
+            what: "profiles",
+            expected: need,
+            got: profiles.len(),
+        });
+    };
+    let mut prof = Profiles { words, first, len };
+    let mut macs = 0u64;
+    // 1. Beamform toward each contour point: K·E·len, integer.
+    for (i, pt) in contour.points().iter().enumerate() {
+        let beam = Residual::new(spectra, geo, reflectors, pt.sin_az);
+        for j in 0..len {
+            prof.set(i, j, beam.at(first + j));
+        }
+        macs += (e * len) as u64;
+    }
+    // 2. Coarse scores on the bin grid.
     scores.fill(0.0);
     for d in lo..=hi {
         let mut p = 0.0;
-        for (pt, prof) in contour.points().iter().zip(profiles.chunks_exact(m)) {
-            if let Some(z) = prof.get(d + offsets(pt)) {
-                p += norm2(*z);
-            }
+        for (i, pt) in contour.points().iter().enumerate() {
+            p += prof.get(i, d + offset(pt.rel_range_m)).norm_sqr();
         }
         scores[d] = p;
         macs += k as u64;
     }
-    // 3. Best coarse candidates (local maxima), then exact P on the fine grid around them.
+    // 3. Best coarse candidates (local maxima), then P on the fine grid around them.
     let mut cands = [usize::MAX; CANDIDATES];
     for d in lo..=hi {
         let v = scores[d];
@@ -254,23 +311,22 @@ pub fn coarse_to_fine(
     let fine = FINE_STEPS_PER_BIN as f32;
     for &cand in cands.iter().filter(|&&d| d != usize::MAX) {
         // Fine grid points within ±1 bin, aligned with brute_force's grid from bins.0.
-        let first = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
-        let last = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
-        for s in first..=last {
+        let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
+        let to = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
+        for s in from..=to {
             let d = bins.0 + s as f32 / fine;
             if d >= bins.1 {
                 break;
             }
             let mut p = 0.0;
-            for (pt, prof) in contour.points().iter().zip(profiles.chunks_exact(m)) {
+            for (i, pt) in contour.points().iter().enumerate() {
                 let f = d + pt.rel_range_m / geo.bin_m;
+                let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
+                let width = (2 * INTERP_HALF_WIDTH + 2).min(m - b0.min(m));
                 let mut z = C32::new(0.0, 0.0);
-                for (b, &x) in prof.iter().enumerate() {
-                    let (re, im) = dirichlet(b as f32 - f, geo.samples, m);
-                    z += x * C32::new(re, im);
-                }
-                macs += m as u64;
-                p += norm2(z);
+                for_each_weight(f, b0, width, geo.samples, m, |b, w| z += prof.get(i, b) * w);
+                macs += width as u64;
+                p += z.norm_sqr();
             }
             if p > best.0 {
                 best = (p, d);

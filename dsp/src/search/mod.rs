@@ -19,13 +19,15 @@
 //! place does not provide.
 //!
 //! [`depth::brute_force`] evaluates this on raw samples for every candidate depth, as the paper's
-//! `O(D·N²)` matched filter; [`depth::coarse_to_fine`] evaluates the same function from the range
-//! spectra, first on the bin grid, then exactly (Dirichlet interpolation of the zero-padded
-//! spectrum) on a fine grid around the best coarse candidates.
+//! `O(D·N²)` matched filter; [`depth::coarse_to_fine`] evaluates the same function from the
+//! fixed-point range spectra, first on the bin grid, then by Dirichlet interpolation of the
+//! zero-padded spectrum on a fine grid around the best coarse candidates.
 
+pub mod beam;
 mod contour;
 pub mod depth;
 mod dirichlet;
+pub mod kernel;
 
 pub use contour::{Contour, ContourPoint, MAX_CONTOUR};
 pub use dirichlet::dirichlet;

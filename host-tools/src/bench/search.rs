@@ -55,14 +55,14 @@ pub fn run() -> Result<SearchReport, String> {
         .next()
         .ok_or("no object of interest in the benchmark scene")?;
     let t = Instant::now();
-    let statics = StaticScene::new(&scene.radar, &frame)?;
-    let prepared = prepare(&statics, &obj).ok_or("the object has no azimuth span")?;
+    let mut statics = StaticScene::new(&scene.radar, &frame)?;
+    let prepared = prepare(&mut statics, &obj).ok_or("the object has no azimuth span")?;
     let prepare_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
-    let (fast, reference) = both_searches(&statics, &prepared)?;
+    let (fast, reference) = both_searches(&mut statics, &prepared)?;
     let both_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
-    fast_search(&statics, &prepared)?;
+    fast_search(&mut statics, &prepared)?;
     let fast_ms = t.elapsed().as_secs_f64() * 1e3;
     Ok(SearchReport {
         frame: format!(
@@ -71,7 +71,7 @@ pub fn run() -> Result<SearchReport, String> {
             scene.radar.adc_samples,
             scene.radar.range_fft_len()
         ),
-        contour_points: prepared.contour.points().len(),
+        contour_points: prepared.hint.contour.points().len(),
         coarse_to_fine_macs: fast.macs,
         brute_force_macs: reference.macs,
         mac_ratio: reference.macs as f64 / fast.macs as f64,

@@ -5,95 +5,123 @@
 use super::ObjectResult;
 use super::camera_points::{CameraObject, shift_to_depth};
 use crate::geometry::{Point, azimuth, range_xz};
-use dsp::clutter::sic::{self, SicScratch};
+use dsp::clutter::peaks::{MAX_PEAKS, Peak};
+use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
 use dsp::config::RadarConfig;
 use dsp::fft::C32;
-use dsp::range::StaticSum;
+use dsp::fixed::CQ15;
+use dsp::pipeline::{DETECTION_RATIO, Edge, ObjectHint, ObjectReport, Scene, UNIQUENESS_RATIO};
+use dsp::range::{Spectra, StaticSum};
 use dsp::search::Contour;
-use dsp::search::depth::{Geometry, SearchResult, brute_force, coarse_to_fine};
+use dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
 use dsp::window::{WindowKind, coefficient_f64};
 
 /// Width of the azimuth bins that build the contour and reject edge outliers, rad.
 const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
-/// SIC goes on while a reflector outside the span has more than this fraction of the power of
-/// the strongest cell inside it.
-const SIC_STOP_RATIO: f32 = 0.05;
-/// The search starts at this fraction of the monocular depth: monocular depth is metres off, but
-/// not by a factor of 2.5 (the paper's Table I: 19 m median error at 40–60 m).
-const PRIOR_FRACTION: f64 = 0.4;
-/// `P(d*)` must also exceed the best score elsewhere (beyond the contour's depth extent) by this
-/// factor: two comparable explanations of the data mean the answer is a guess.
-pub const UNIQUENESS_RATIO: f32 = 1.3;
-/// `P(d*)` must exceed the median of `P` by this factor to be trusted.
-pub const DETECTION_RATIO: f32 = 6.0;
 /// Azimuth bins of the depth image with fewer points than this fraction of the fullest bin are
 /// edge outliers (the paper's per-azimuth-bin point-count threshold).
 const EDGE_FRACTION: f64 = 0.25;
 
-/// A frame's static scene, ready for the per-object search.
+/// A frame's static scene through the module's pipeline ([`dsp::pipeline`]): the arena with the
+/// frame's fixed-point spectra and peak list, plus the `f32` sums the reference search needs.
 pub struct StaticScene {
-    positions: Vec<f32>,
-    window: Vec<f32>,
+    edge: Edge,
+    arena: Vec<u32>,
+    exponent: i32,
+    peaks: heapless::Vec<Peak, MAX_PEAKS>,
+    /// Windowed `f32` sums per element (`elements × N`), for the reference search only.
     samples: Vec<C32>,
-    spectra: Vec<C32>,
-    n: usize,
-    m: usize,
-    bin_m: f32,
-    span: usize,
+    window: Vec<f32>,
 }
 
 impl StaticScene {
-    /// Sums `frame` (`[chirp][rx][sample]`) over loops per channel, Hann-windows and transforms it.
+    /// Streams `frame` (`[chirp][rx][sample]`) through the module's frame stage.
     ///
     /// # Errors
     /// A message if the frame does not match the configuration.
-    pub fn new(config: &RadarConfig, frame: &[dsp::fixed::CQ15]) -> Result<Self, String> {
-        let (n, m, rx, slots) = (
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Self, String> {
+        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+        let (n, m, rx) = (
             config.adc_samples as usize,
-            config.range_fft_len(),
+            edge.fft_len(),
             config.rx_count(),
-            config.slots(),
         );
-        let channels = config.channels();
-        let mut samples = vec![C32::new(0.0, 0.0); channels * n];
+        let elements = edge.array().elements();
+        let mut arena = vec![0u32; edge.arena_words()];
+        let mut samples = vec![C32::new(0.0, 0.0); elements * n];
         let mut sum = StaticSum::new(&mut samples, n).map_err(|e| e.to_string())?;
-        for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
-            for (r, s) in rows.chunks_exact(n).enumerate() {
-                sum.push((chirp % slots) * rx + r, s)
-                    .map_err(|e| e.to_string())?;
+        let (exponent, peaks) = {
+            let mut frame_sum = edge.start(&mut arena).map_err(|e| e.to_string())?;
+            for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
+                for (r, s) in rows.chunks_exact(n).enumerate() {
+                    edge.push(&mut frame_sum, chirp, r, s)
+                        .map_err(|e| e.to_string())?;
+                    let element = edge
+                        .array()
+                        .element_of((chirp % config.slots()) * rx + r)
+                        .ok_or("channel outside the array")?;
+                    sum.push(element, s).map_err(|e| e.to_string())?;
+                }
             }
-        }
+            let mut row = vec![CQ15::default(); m];
+            let mut az = vec![CQ15::default(); edge.azimuth_len()];
+            let mut powers = vec![0u64; 3 * edge.azimuth_len()];
+            let scene = edge
+                .finish(frame_sum, &mut row, &mut az, &mut powers)
+                .map_err(|e| e.to_string())?;
+            (scene.spectra.exponent(), scene.peaks)
+        };
         let window: Vec<f32> = (0..n)
-            .map(|i| coefficient_f64(WindowKind::Hann, i, n) as f32)
+            .map(|i| coefficient_f64(Edge::WINDOW, i, n) as f32)
             .collect();
-        let mut spectra = vec![C32::new(0.0, 0.0); channels * m];
-        sum.finish(&window, &mut spectra)
-            .map_err(|e| e.to_string())?;
-        let positions: Vec<f32> = (0..channels)
-            .map(|ch| config.channel_position(ch).unwrap_or(0) as f32)
-            .collect();
-        let span = (positions.iter().copied().fold(f32::MIN, f32::max)
-            - positions.iter().copied().fold(f32::MAX, f32::min)) as usize
-            + 1;
+        sum.finish(&window).map_err(|e| e.to_string())?;
         Ok(Self {
-            positions,
-            window,
+            edge,
+            arena,
+            exponent,
+            peaks,
             samples,
-            spectra,
-            n,
-            m,
-            bin_m: config.range_bin_size(m).0,
-            span,
+            window,
         })
     }
 
-    fn geometry(&self) -> Geometry<'_> {
-        Geometry {
-            positions: &self.positions,
-            samples: self.n,
-            fft_len: self.m,
-            bin_m: self.bin_m,
-        }
+    /// SIC for `hint`, on the module's view of the frame.
+    fn cancel(
+        &mut self,
+        hint: &ObjectHint,
+    ) -> Result<heapless::Vec<Reflector, MAX_REFLECTORS>, String> {
+        let view = Scene::resume(
+            &self.edge,
+            &mut self.arena,
+            self.exponent,
+            self.peaks.clone(),
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(self.edge.cancel(&view, hint))
+    }
+
+    /// The depth search for `hint` with `reflectors` cancelled, on the module's view of the frame.
+    fn search(
+        &mut self,
+        hint: &ObjectHint,
+        reflectors: &[Reflector],
+    ) -> Result<ObjectReport, String> {
+        let mut scores = vec![0.0f32; self.edge.fft_len()];
+        let mut view = Scene::resume(
+            &self.edge,
+            &mut self.arena,
+            self.exponent,
+            self.peaks.clone(),
+        )
+        .map_err(|e| e.to_string())?;
+        self.edge
+            .search(&mut view, hint, reflectors, &mut scores)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The pipeline.
+    pub fn edge(&self) -> &Edge {
+        &self.edge
     }
 }
 
@@ -102,7 +130,10 @@ impl StaticScene {
 pub struct MovingScene {
     /// `[doppler][channel][bin]`, Doppler in natural FFT order (bin 0 is empty after clutter removal).
     spectra: Vec<Vec<C32>>,
-    scene: StaticScene,
+    edge: Edge,
+    /// Position of each channel, half-wavelengths.
+    positions: Vec<f32>,
+    m: usize,
     rx: usize,
     slots: usize,
 }
@@ -115,10 +146,9 @@ impl MovingScene {
     /// on, compensated for the TDM slot delays with the Doppler alias that makes the virtual
     /// array most coherent (12-TX TDM leaves ±1.4 m/s unambiguous, so fast movers alias).
     fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> Vec<C32> {
-        let (m, nd, rx) = (self.scene.m, self.spectra.len(), self.rx);
-        let c = self.scene.positions.len();
+        let (m, nd, rx) = (self.m, self.spectra.len(), self.rx);
+        let c = self.positions.len();
         let steer: Vec<C32> = self
-            .scene
             .positions
             .iter()
             .map(|&p| {
@@ -183,11 +213,7 @@ impl MovingScene {
     ///
     /// # Errors
     /// A message if the frame does not match the configuration.
-    pub fn new(
-        config: &RadarConfig,
-        frame: &[dsp::fixed::CQ15],
-        scene: &StaticScene,
-    ) -> Result<Option<Self>, String> {
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Option<Self>, String> {
         if config.chirps_per_tx < MIN_DOPPLER_LOOPS {
             return Ok(None);
         }
@@ -198,7 +224,11 @@ impl MovingScene {
         };
         let mut proc = crate::frame::FrameProcessor::new(config, options)?;
         proc.process(frame)?;
-        let (c, m, nd) = (config.channels(), scene.m, config.doppler_fft_len());
+        let (c, m, nd) = (
+            config.channels(),
+            config.range_fft_len(),
+            config.doppler_fft_len(),
+        );
         let mut spectra = vec![vec![C32::new(0.0, 0.0); c * m]; nd];
         for k in 0..m {
             for (ch, (exp, column)) in proc.doppler_spectra(k, true)?.into_iter().enumerate() {
@@ -208,28 +238,81 @@ impl MovingScene {
                 }
             }
         }
+        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+        let positions = (0..c)
+            .map(|ch| edge.array().position(ch).unwrap_or(0) as f32)
+            .collect();
         Ok(Some(Self {
             spectra,
-            scene: scene.clone_geometry(),
+            edge,
+            positions,
+            m,
             rx: config.rx_count(),
             slots: config.slots(),
         }))
     }
+
+    /// The depth search on the Doppler bin holding most energy at the object's azimuth.
+    fn search(&self, hint: &ObjectHint) -> Option<ObjectReport> {
+        let bins = self.edge.bins(hint);
+        let s_mid = (hint.span.0 + hint.span.1) / 2.0;
+        let focused = self.focused(s_mid, bins.0 as usize, bins.1 as usize);
+        let (words, exponent) = pack_elements(&self.edge, &focused, self.m);
+        let spectra =
+            Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
+        let mut profiles = vec![0u32; profile_words(hint.contour.points().len(), self.m)];
+        let mut scores = vec![0.0f32; self.m];
+        let search = coarse_to_fine(
+            &spectra,
+            &self.edge.geometry(),
+            &hint.contour,
+            bins,
+            &[],
+            &mut profiles,
+            &mut scores,
+        )
+        .ok()?;
+        Some(ObjectReport {
+            id: hint.id,
+            class: hint.class,
+            search,
+            cancelled: 0,
+        })
+    }
 }
 
-impl StaticScene {
-    fn clone_geometry(&self) -> Self {
-        Self {
-            positions: self.positions.clone(),
-            window: self.window.clone(),
-            samples: Vec::new(),
-            spectra: Vec::new(),
-            n: self.n,
-            m: self.m,
-            bin_m: self.bin_m,
-            span: self.span,
+/// Channel spectra (`channels × m`, `f32`) summed into the array's elements and quantized to
+/// packed Q15 words with one block exponent.
+fn pack_elements(edge: &Edge, channels: &[C32], m: usize) -> (Vec<u32>, i32) {
+    let array = edge.array();
+    let mut sums = vec![C32::new(0.0, 0.0); array.elements() * m];
+    for (ch, row) in channels.chunks_exact(m).enumerate() {
+        if let Some(e) = array.element_of(ch) {
+            for (o, &z) in sums[e * m..(e + 1) * m].iter_mut().zip(row) {
+                *o += z;
+            }
         }
     }
+    let peak = sums
+        .iter()
+        .map(|z| z.re.abs().max(z.im.abs()))
+        .fold(0.0f32, f32::max);
+    let exponent = if peak > 0.0 {
+        (peak / 16383.0).log2().ceil() as i32
+    } else {
+        0
+    };
+    let scale = 2f32.powi(-exponent);
+    let words = sums
+        .iter()
+        .map(|z| {
+            dsp::range::frame_sum::pack(CQ15::from_raw(
+                (z.re * scale).round() as i16,
+                (z.im * scale).round() as i16,
+            ))
+        })
+        .collect();
+    (words, exponent)
 }
 
 /// The contour of an object: per azimuth bin, the median monocular range of its points;
@@ -274,116 +357,70 @@ fn reject_edges(points: Vec<Point>) -> Vec<Point> {
         .collect()
 }
 
-/// The best depth of `contour` in `spectra` from range bin `first` on: (depth m, peak/floor).
-fn search(
-    scene: &StaticScene,
-    spectra: &[C32],
-    contour: &Contour,
-    first: f32,
-    max_bin: usize,
-) -> Option<(f64, f32, f32)> {
-    let found = run_search(scene, spectra, contour, (first, max_bin as f32)).ok()?;
-    Some((
-        found.depth_m as f64,
-        found.peak / found.floor.max(f32::MIN_POSITIVE),
-        found.peak / found.runner_up.max(f32::MIN_POSITIVE),
-    ))
-}
-
-/// `coarse_to_fine` with its scratch buffers.
-fn run_search(
-    scene: &StaticScene,
-    spectra: &[C32],
-    contour: &Contour,
-    bins: (f32, f32),
-) -> Result<SearchResult, String> {
-    let mut profiles = vec![C32::new(0.0, 0.0); contour.points().len() * scene.m];
-    let mut scores = vec![0.0; scene.m];
-    coarse_to_fine(
-        spectra,
-        &scene.geometry(),
-        contour,
-        bins,
-        &mut profiles,
-        &mut scores,
-    )
-    .map_err(|e| e.to_string())
+/// The module's hint for `obj`: id, class, sin-azimuth span, monocular prior and contour (a flat
+/// one across the span where the mask has no usable depth, e.g. beyond the 256 m a depth PNG
+/// holds).
+pub fn hint(obj: &CameraObject) -> Option<ObjectHint> {
+    let (lo, hi) = obj.span?;
+    let mut c = contour(obj);
+    if c.is_empty() {
+        c = Contour::new((0..9).map(|i| ((lo + (hi - lo) * i as f64 / 8.0).sin() as f32, 0.0f32)));
+    }
+    Some(ObjectHint {
+        id: obj.instance,
+        class: 0,
+        span: (lo.sin() as f32, hi.sin() as f32),
+        prior_m: obj.closest_range().unwrap_or(0.0) as f32,
+        contour: c,
+    })
 }
 
 /// An object's search problem after clutter cancellation: what both searches run on.
 pub struct Prepared {
-    /// The contour.
-    pub contour: Contour,
-    /// Windowed static samples with the cancelled reflectors removed (`channels × N`).
-    pub samples: Vec<C32>,
-    /// Their spectra (`channels × M`).
-    pub spectra: Vec<C32>,
+    /// The module's hint.
+    pub hint: ObjectHint,
+    /// What SIC cancelled.
+    pub reflectors: heapless::Vec<Reflector, MAX_REFLECTORS>,
     /// First and last range bin searched.
     pub bins: (f32, f32),
 }
 
-/// Builds the contour, cancels clutter outside the object's span, and sets the search range.
-pub fn prepare(scene: &StaticScene, obj: &CameraObject) -> Option<Prepared> {
-    let (lo, hi) = obj.span?;
-    let mut c = contour(obj);
-    if c.is_empty() {
-        // No monocular depth (e.g. beyond the 256 m a depth PNG holds): a flat contour across
-        // the mask's azimuth span.
-        c = Contour::new((0..9).map(|i| ((lo + (hi - lo) * i as f64 / 8.0).sin() as f32, 0.0f32)));
-    }
-    let geo = scene.geometry();
-    let (mut samples, mut spectra) = (scene.samples.clone(), scene.spectra.clone());
-    // Keep the object's span plus a main lobe (first null of the array at sin = 2/span).
-    let guard = 2.0 / scene.span as f32;
-    let keep = [((lo.sin() as f32) - guard, (hi.sin() as f32) + guard)];
-    let max_bin = (0.92 * scene.m as f32) as usize;
-    let mut elements =
-        vec![C32::new(0.0, 0.0); dsp::fft::padded_len(4 * scene.span).unwrap_or(dsp::fft::MAX_LEN)];
-    let mut tone = vec![C32::new(0.0, 0.0); scene.m];
-    sic::cancel(
-        &mut spectra,
-        &mut samples,
-        &geo,
-        &scene.window,
-        &keep,
-        max_bin,
-        SIC_STOP_RATIO,
-        SicScratch {
-            elements: &mut elements,
-            tone: &mut tone,
-        },
-    );
-    let first = obj
-        .closest_range()
-        .map_or(1.0, |r| (PRIOR_FRACTION * r) as f32 / scene.bin_m)
-        .clamp(1.0, max_bin as f32 - 2.0);
+/// Builds the hint and cancels clutter outside the object's span.
+pub fn prepare(scene: &mut StaticScene, obj: &CameraObject) -> Option<Prepared> {
+    let hint = hint(obj)?;
+    let reflectors = scene.cancel(&hint).ok()?;
     Some(Prepared {
-        contour: c,
-        samples,
-        spectra,
-        bins: (first, max_bin as f32),
+        bins: scene.edge.bins(&hint),
+        hint,
+        reflectors,
     })
 }
 
-/// The production search on a prepared object.
+/// The production search on a prepared object (the module's code).
 ///
 /// # Errors
 /// A message if the search cannot run.
-pub fn fast_search(scene: &StaticScene, p: &Prepared) -> Result<SearchResult, String> {
-    run_search(scene, &p.spectra, &p.contour, p.bins)
+pub fn fast_search(scene: &mut StaticScene, p: &Prepared) -> Result<ObjectReport, String> {
+    scene.search(&p.hint, &p.reflectors)
 }
 
-/// Both searches on a prepared object: (production coarse-to-fine, brute-force reference).
+/// Both searches on a prepared object: (production coarse-to-fine, brute-force reference on the
+/// `f32` sums with the same reflectors subtracted in the time domain).
 ///
 /// # Errors
 /// A message if a search cannot run.
 pub fn both_searches(
-    scene: &StaticScene,
+    scene: &mut StaticScene,
     p: &Prepared,
 ) -> Result<(SearchResult, SearchResult), String> {
-    let fast = fast_search(scene, p)?;
-    let reference = brute_force(&p.samples, &scene.geometry(), &p.contour, p.bins)
-        .map_err(|e| e.to_string())?;
+    let fast = fast_search(scene, p)?.search;
+    let geo = scene.edge.geometry();
+    let mut samples = scene.samples.clone();
+    for r in &p.reflectors {
+        r.subtract_from(&mut samples, &geo, &scene.window, scene.exponent);
+    }
+    let reference =
+        brute_force(&samples, &geo, &p.hint.contour, p.bins).map_err(|e| e.to_string())?;
     Ok((fast, reference))
 }
 
@@ -391,28 +428,22 @@ pub fn both_searches(
 /// cancellation and, where the frame has Doppler, the search on the Doppler bin holding most of
 /// the energy at the object's azimuth; the more confident of the two wins.
 pub fn estimate(
-    scene: &StaticScene,
+    scene: &mut StaticScene,
     moving: Option<&MovingScene>,
     obj: &CameraObject,
 ) -> ObjectResult {
-    let Some((lo, hi)) = obj.span else {
-        return ObjectResult::missed(obj);
-    };
     let Some(p) = prepare(scene, obj) else {
         return ObjectResult::missed(obj);
     };
-    let (c, first_bin, max_bin) = (&p.contour, p.bins.0, p.bins.1 as usize);
-    let mut best = search(scene, &p.spectra, c, first_bin, max_bin);
-    if let Some(mv) = moving {
-        let focused = mv.focused(((lo + hi) / 2.0).sin() as f32, first_bin as usize, max_bin);
-        if let Some(found) = search(&mv.scene, &focused, c, first_bin, max_bin) {
-            if best.is_none_or(|b| found.1 > b.1) {
-                best = Some(found);
-            }
+    let mut best = fast_search(scene, &p).ok();
+    if let Some(found) = moving.and_then(|mv| mv.search(&p.hint)) {
+        if best.is_none_or(|b| found.floor_ratio() > b.floor_ratio()) {
+            best = Some(found);
         }
     }
     match best {
-        Some((depth, ratio, unique)) if ratio >= DETECTION_RATIO && unique >= UNIQUENESS_RATIO => {
+        Some(r) if r.floor_ratio() >= DETECTION_RATIO && r.uniqueness() >= UNIQUENESS_RATIO => {
+            let depth = r.search.depth_m as f64;
             let points = reject_edges(shift_to_depth(&obj.points, depth));
             ObjectResult::found(obj, depth, obj.median_azimuth(), points)
         }

@@ -127,11 +127,11 @@ pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOu
                 bundle
                     .read_radar_frame(f, &mut samples)
                     .map_err(|e| e.to_string())?;
-                let scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
-                let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples, &scene)?;
+                let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
+                let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
                 objects
                     .iter()
-                    .map(|o| metamoran::estimate(&scene, moving.as_ref(), o))
+                    .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
                     .collect()
             }
             Mode::Naive => {

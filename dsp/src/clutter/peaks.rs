@@ -1,0 +1,180 @@
+//! The frame's strongest reflectors: one pass over the range–azimuth map (a zero-padded Q15
+//! azimuth FFT per range bin), keeping the [`MAX_PEAKS`] strongest local maxima. Shared by every
+//! object of the frame; SIC takes its candidates from here.
+//!
+//! Memory: the azimuth FFT buffer and three rows of powers (caller-owned); the map itself is
+//! never stored. O(bins · Nₐ log Nₐ).
+
+use crate::fixed::CQ15;
+use crate::range::Spectra;
+use heapless::Vec;
+
+/// Most peaks kept per frame.
+pub const MAX_PEAKS: usize = 64;
+
+/// A local maximum of the range–azimuth power map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Peak {
+    /// Range bin.
+    pub bin: u16,
+    /// Azimuth FFT bin (natural order; `sin θ = 2·signed(bin)/Nₐ`).
+    pub az: u16,
+    /// `|B|²` in the spectra's stored units.
+    pub power: u64,
+}
+
+impl Peak {
+    /// sin(azimuth) of the peak's bin for an `na`-point azimuth FFT.
+    pub fn sin_az(&self, na: usize) -> f32 {
+        2.0 * crate::units::signed_bin(self.az as usize, na) as f32 / na as f32
+    }
+}
+
+/// Why the scan could not run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScanError {
+    /// The azimuth FFT length is unsupported or shorter than the array span.
+    AzimuthLen(usize),
+    /// The power rows hold fewer than `3·Nₐ` values.
+    Rows(usize),
+}
+
+impl core::fmt::Display for ScanError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::AzimuthLen(n) => write!(
+                f,
+                "azimuth FFT of {n} points: use a supported length at least the array span"
+            ),
+            Self::Rows(n) => write!(
+                f,
+                "power rows hold {n} values: give 3 × the azimuth FFT length"
+            ),
+        }
+    }
+}
+
+/// Scans range bins `1..max_bin` and returns the strongest local maxima (3 × 3 neighbourhood,
+/// azimuth circular), strongest first; ties keep the earlier peak. `fft` is the azimuth FFT
+/// buffer (its length is Nₐ), `rows` scratch of `3·Nₐ` powers.
+///
+/// # Errors
+/// [`ScanError`] for an unusable buffer.
+pub fn scan(
+    spectra: &Spectra<'_>,
+    positions: &[u16],
+    max_bin: usize,
+    fft: &mut [CQ15],
+    rows: &mut [u64],
+) -> Result<Vec<Peak, MAX_PEAKS>, ScanError> {
+    let na = fft.len();
+    let span = positions
+        .iter()
+        .copied()
+        .max()
+        .map_or(0, |p| p as usize + 1);
+    if !crate::fft::is_supported_len(na) || na < span {
+        return Err(ScanError::AzimuthLen(na));
+    }
+    let have = rows.len();
+    let rows = rows.get_mut(..3 * na).ok_or(ScanError::Rows(have))?;
+    rows.fill(0);
+    let mut out: Vec<Peak, MAX_PEAKS> = Vec::new();
+    let last = max_bin.min(spectra.bins());
+    // Row of bin k lives at slot k % 3; bin 0 and bin `last` count as empty rows.
+    for k in 1..=last {
+        let slot = k % 3;
+        if k < last {
+            fft.fill(CQ15::default());
+            for (e, &p) in positions.iter().enumerate() {
+                fft[p as usize] = spectra.get(e, k);
+            }
+            let shift = crate::fft::cfft_q15(fft).map_or(0, |e| 2 * e.0);
+            for (o, z) in rows[slot * na..(slot + 1) * na].iter_mut().zip(fft.iter()) {
+                *o = (z.norm_sqr_raw() as u64) << shift;
+            }
+        } else {
+            rows[slot * na..(slot + 1) * na].fill(0);
+        }
+        if k >= 2 {
+            find_maxima(rows, na, k - 1, &mut out);
+        }
+    }
+    Ok(out)
+}
+
+/// Local maxima of the row of bin `k` (its neighbours are the rows of `k ± 1`).
+fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>) {
+    let row = |kk: usize| &rows[(kk % 3) * na..(kk % 3 + 1) * na];
+    let (prev, cur, next) = (row(k - 1), row(k), row(k + 1));
+    for j in 0..na {
+        let v = cur[j];
+        if v == 0 {
+            continue;
+        }
+        let (l, r) = ((j + na - 1) % na, (j + 1) % na);
+        // Strictly above what comes earlier in scan order, at least what comes later.
+        let before = [prev[l], prev[j], prev[r], cur[l]];
+        let after = [cur[r], next[l], next[j], next[r]];
+        if before.iter().all(|&b| v > b) && after.iter().all(|&a| v >= a) {
+            insert(
+                out,
+                Peak {
+                    bin: k as u16,
+                    az: j as u16,
+                    power: v,
+                },
+            );
+        }
+    }
+}
+
+/// Inserts keeping `out` sorted by falling power and at most [`MAX_PEAKS`] long.
+fn insert(out: &mut Vec<Peak, MAX_PEAKS>, p: Peak) {
+    let at = out.partition_point(|q| q.power >= p.power);
+    if at >= MAX_PEAKS {
+        return;
+    }
+    if out.is_full() {
+        out.pop();
+    }
+    let _ = out.insert(at, p);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::range::frame_sum::pack;
+
+    #[test]
+    fn finds_two_reflectors_strongest_first() {
+        // Elements 0..8, 32 bins; tones at (bin 10, sin 0.25) and (bin 20, sin −0.5), weaker.
+        let (el, m, na) = (8usize, 32usize, 16usize);
+        let pos: std::vec::Vec<u16> = (0..el as u16).collect();
+        let mut words = std::vec![0u32; el * m];
+        for (bin, s, a) in [(10usize, 0.25f64, 8000.0f64), (20, -0.5, 3000.0)] {
+            for e in 0..el {
+                let ph = core::f64::consts::PI * e as f64 * s;
+                let z = crate::range::frame_sum::unpack(words[e * m + bin]);
+                words[e * m + bin] = pack(CQ15::from_raw(
+                    z.re.0 + (a * libm::cos(ph)) as i16,
+                    z.im.0 + (a * libm::sin(ph)) as i16,
+                ));
+            }
+        }
+        let spec = Spectra::from_words(&words, el, m, 0).unwrap();
+        let mut fft = [CQ15::default(); 16];
+        let mut rows = [0u64; 48];
+        let peaks = scan(&spec, &pos, 30, &mut fft, &mut rows).unwrap();
+        // Azimuth side lobes of the 8-element aperture are local maxima too, 13 dB down.
+        assert!(peaks.len() >= 2, "{peaks:?}");
+        assert_eq!((peaks[0].bin, peaks[0].sin_az(na)), (10, 0.25));
+        assert_eq!((peaks[1].bin, peaks[1].sin_az(na)), (20, -0.5));
+        assert!(peaks[0].power > peaks[1].power);
+        assert!(peaks[2..].iter().all(|p| p.power * 10 < peaks[0].power));
+        assert_eq!(
+            scan(&spec, &pos, 30, &mut fft[..4], &mut rows),
+            Err(ScanError::AzimuthLen(4))
+        );
+    }
+}

@@ -1,0 +1,385 @@
+//! The module's per-frame job, end to end: chirps stream into per-element sums, the sums become
+//! Q15 range spectra in place, one range–azimuth pass lists the strong reflectors, and each
+//! object the camera reported gets SIC and the depth search. The firmware runs exactly this; the
+//! host's in-process pipeline calls the same functions, so both produce the same bits.
+//!
+//! ```text
+//! chirps ─▶ FrameSum ─▶ Spectra ─▶ peaks::scan ─┬▶ sic::cancel ─▶ coarse_to_fine ─▶ ObjectReport
+//!                                               └▶ (next object)
+//! ```
+//!
+//! Memory is the caller's: one arena of [`Edge::arena_words`] words (sums, then spectra and
+//! the search's beams) and small scratch buffers sized by [`Edge`].
+
+use crate::array::{ArrayError, VirtualArray};
+use crate::clutter::peaks::{self, MAX_PEAKS, Peak, ScanError};
+use crate::clutter::sic::{self, MAX_REFLECTORS, Reflector};
+use crate::config::RadarConfig;
+use crate::fixed::{CQ15, Q15};
+use crate::range::{FrameSum, RangeError, Spectra};
+use crate::search::Contour;
+use crate::search::depth::{self, Geometry, SearchError, SearchResult};
+use crate::window::{self, WindowKind};
+use core::fmt;
+use heapless::Vec;
+
+/// SIC goes on while a reflector outside the span has more than this fraction of the power of
+/// the strongest peak inside it.
+pub const SIC_STOP_RATIO: f32 = 0.05;
+/// The search starts at this fraction of the monocular depth: monocular depth is metres off, but
+/// not by a factor of 2.5 (the paper's Table I: 19 m median error at 40–60 m).
+pub const PRIOR_FRACTION: f32 = 0.4;
+/// `P(d*)` must exceed the median of `P` by this factor to be trusted.
+pub const DETECTION_RATIO: f32 = 6.0;
+/// `P(d*)` must also exceed the best score elsewhere (beyond the contour's depth extent) by this
+/// factor: two comparable explanations of the data mean the answer is a guess.
+pub const UNIQUENESS_RATIO: f32 = 1.3;
+/// The search and SIC stay below this fraction of the unambiguous range (the IF filter's
+/// roll-off makes the last bins unreliable).
+pub const MAX_RANGE_FRACTION: f32 = 0.92;
+
+/// What the camera tells the module about one object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectHint {
+    /// Instance id.
+    pub id: u16,
+    /// Class code (see the telemetry protocol).
+    pub class: u8,
+    /// sin(azimuth) of the mask's left and right edges.
+    pub span: (f32, f32),
+    /// Monocular range of the object's closest point, m (0 when unknown).
+    pub prior_m: f32,
+    /// The contour.
+    pub contour: Contour,
+}
+
+/// The module's answer for one object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectReport {
+    /// Instance id.
+    pub id: u16,
+    /// Class code.
+    pub class: u8,
+    /// The search's result.
+    pub search: SearchResult,
+    /// Reflectors SIC cancelled.
+    pub cancelled: u8,
+}
+
+impl ObjectReport {
+    /// `P(d*) / median P`.
+    pub fn floor_ratio(&self) -> f32 {
+        self.search.peak / self.search.floor.max(f32::MIN_POSITIVE)
+    }
+
+    /// `P(d*) / best P elsewhere`.
+    pub fn uniqueness(&self) -> f32 {
+        self.search.peak / self.search.runner_up.max(f32::MIN_POSITIVE)
+    }
+
+    /// Whether the peak is trustworthy: [`DETECTION_RATIO`] above the floor and
+    /// [`UNIQUENESS_RATIO`] above any other explanation.
+    pub fn detected(&self) -> bool {
+        self.floor_ratio() >= DETECTION_RATIO && self.uniqueness() >= UNIQUENESS_RATIO
+    }
+}
+
+/// Why the pipeline could not run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PipelineError {
+    /// The radar configuration cannot be processed.
+    Array(ArrayError),
+    /// Range stage (sizes, arena).
+    Range(RangeError),
+    /// Range–azimuth scan.
+    Scan(ScanError),
+    /// Depth search.
+    Search(SearchError),
+    /// A chirp addressed a slot or receiver the configuration does not have.
+    Chirp {
+        /// Chirp index in the frame.
+        chirp: usize,
+        /// Receiver.
+        rx: usize,
+    },
+}
+
+impl fmt::Display for PipelineError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Array(e) => e.fmt(f),
+            Self::Range(e) => e.fmt(f),
+            Self::Scan(e) => e.fmt(f),
+            Self::Search(e) => e.fmt(f),
+            Self::Chirp { chirp, rx } => write!(
+                f,
+                "chirp {chirp}, receiver {rx} is not in the radar configuration: check the capture layout"
+            ),
+        }
+    }
+}
+
+macro_rules! from_errors {
+    ($($v:ident($t:ty)),*) => {$(
+        impl From<$t> for PipelineError {
+            fn from(e: $t) -> Self {
+                Self::$v(e)
+            }
+        }
+    )*};
+}
+from_errors!(
+    Array(ArrayError),
+    Range(RangeError),
+    Scan(ScanError),
+    Search(SearchError)
+);
+
+/// The per-configuration state: array, window, sizes. About 7 KiB.
+pub struct Edge {
+    array: VirtualArray,
+    window: Vec<Q15, { crate::fft::MAX_LEN }>,
+    n: usize,
+    m: usize,
+    rx: usize,
+    slots: usize,
+    bin_m: f32,
+}
+
+/// A frame after the range stage: spectra, the strongest reflectors, and the arena's free words.
+pub struct Scene<'a> {
+    /// The range spectra.
+    pub spectra: Spectra<'a>,
+    /// The strongest reflectors, strongest first.
+    pub peaks: Vec<Peak, MAX_PEAKS>,
+    free: &'a mut [u32],
+}
+
+impl<'a> Scene<'a> {
+    /// The scene of a frame already finished in `arena` (spectra with block exponent `exponent`
+    /// in its first words), e.g. kept by the host while it works through the objects.
+    ///
+    /// # Errors
+    /// [`PipelineError::Range`] if the arena is smaller than [`Edge::arena_words`].
+    pub fn resume(
+        edge: &Edge,
+        arena: &'a mut [u32],
+        exponent: i32,
+        peaks: Vec<Peak, MAX_PEAKS>,
+    ) -> Result<Self, PipelineError> {
+        let (e, m) = (edge.array.elements(), edge.m);
+        if arena.len() < edge.arena_words() {
+            return Err(RangeError::Buffer {
+                what: "frame arena (u32 words)",
+                expected: edge.arena_words(),
+                got: arena.len(),
+            }
+            .into());
+        }
+        let (spec, free) = arena.split_at_mut(e * m);
+        Ok(Self {
+            spectra: Spectra::from_words(spec, e, m, exponent)?,
+            peaks,
+            free,
+        })
+    }
+}
+
+impl Edge {
+    /// Range window of the pipeline.
+    pub const WINDOW: WindowKind = WindowKind::Hann;
+
+    /// The pipeline for `config`.
+    ///
+    /// # Errors
+    /// [`PipelineError::Array`] if the configuration has no usable array.
+    pub fn new(config: &RadarConfig) -> Result<Self, PipelineError> {
+        let n = config.adc_samples as usize;
+        let mut w = Vec::new();
+        let _ = w.resize(n.min(crate::fft::MAX_LEN), Q15::ZERO);
+        window::fill(Self::WINDOW, &mut w);
+        Ok(Self {
+            array: VirtualArray::new(config)?,
+            window: w,
+            n,
+            m: config.range_fft_len(),
+            rx: config.rx_count(),
+            slots: config.slots(),
+            bin_m: config.range_bin_size(config.range_fft_len()).0,
+        })
+    }
+
+    /// The search geometry.
+    pub fn geometry(&self) -> Geometry<'_> {
+        Geometry {
+            positions: self.array.element_positions(),
+            counts: self.array.element_counts(),
+            samples: self.n,
+            fft_len: self.m,
+            window: Self::WINDOW,
+            bin_m: self.bin_m,
+        }
+    }
+
+    /// The virtual array.
+    pub fn array(&self) -> &VirtualArray {
+        &self.array
+    }
+
+    /// Range FFT length M.
+    pub fn fft_len(&self) -> usize {
+        self.m
+    }
+
+    /// Azimuth FFT length of the range–azimuth scan (twice the span, at least 16).
+    pub fn azimuth_len(&self) -> usize {
+        crate::fft::padded_len(2 * self.array.span()).unwrap_or(crate::fft::MAX_LEN)
+    }
+
+    /// Highest range bin searched (exclusive).
+    pub fn max_bin(&self) -> usize {
+        (MAX_RANGE_FRACTION * self.m as f32) as usize
+    }
+
+    /// Arena words a frame needs: the sums, or the spectra plus the beams of a full contour.
+    pub fn arena_words(&self) -> usize {
+        let e = self.array.elements();
+        let search = e * self.m + depth::profile_words(crate::search::MAX_CONTOUR, self.m);
+        FrameSum::words_needed(e, self.n, self.m).max(search)
+    }
+
+    /// Starts a frame in `arena`.
+    ///
+    /// # Errors
+    /// [`PipelineError::Range`] if the arena is too small.
+    pub fn start<'a>(&self, arena: &'a mut [u32]) -> Result<FrameSum<'a>, PipelineError> {
+        let need = self.arena_words();
+        if arena.len() < need {
+            return Err(RangeError::Buffer {
+                what: "frame arena (u32 words)",
+                expected: need,
+                got: arena.len(),
+            }
+            .into());
+        }
+        Ok(FrameSum::new(arena, self.array.elements(), self.n, self.m)?)
+    }
+
+    /// Adds chirp `chirp` of the frame (loop-major: slot `chirp % slots`) of receiver `rx`. O(N).
+    ///
+    /// # Errors
+    /// [`PipelineError`] for a receiver out of range or a wrong sample count.
+    pub fn push(
+        &self,
+        frame: &mut FrameSum<'_>,
+        chirp: usize,
+        rx: usize,
+        samples: &[CQ15],
+    ) -> Result<(), PipelineError> {
+        let channel = (chirp % self.slots) * self.rx + rx;
+        let element = match self.array.element_of(channel) {
+            Some(e) if rx < self.rx => e,
+            _ => return Err(PipelineError::Chirp { chirp, rx }),
+        };
+        Ok(frame.add(element, samples)?)
+    }
+
+    /// Ends the frame: range spectra in place, then the range–azimuth scan. `row` holds M
+    /// values, `azimuth` [`Edge::azimuth_len`], `powers` three times that.
+    ///
+    /// # Errors
+    /// [`PipelineError`] for wrong scratch sizes.
+    pub fn finish<'a>(
+        &self,
+        frame: FrameSum<'a>,
+        row: &mut [CQ15],
+        azimuth: &mut [CQ15],
+        powers: &mut [u64],
+    ) -> Result<Scene<'a>, PipelineError> {
+        let (spectra, free) = frame.finish(&self.window, row)?;
+        let na = self.azimuth_len();
+        let have = azimuth.len();
+        let azimuth = azimuth.get_mut(..na).ok_or(ScanError::AzimuthLen(have))?;
+        let peaks = peaks::scan(
+            &spectra,
+            self.array.element_positions(),
+            self.max_bin(),
+            azimuth,
+            powers,
+        )?;
+        Ok(Scene {
+            spectra,
+            peaks,
+            free,
+        })
+    }
+
+    /// The range bins searched for `hint`: from [`PRIOR_FRACTION`] of its monocular range (bin 1
+    /// when unknown) to [`Edge::max_bin`].
+    pub fn bins(&self, hint: &ObjectHint) -> (f32, f32) {
+        let max_bin = self.max_bin() as f32;
+        let first = if hint.prior_m > 0.0 {
+            PRIOR_FRACTION * hint.prior_m / self.bin_m
+        } else {
+            1.0
+        };
+        (first.clamp(1.0, max_bin - 2.0), max_bin)
+    }
+
+    /// SIC for one object: the reflectors outside its span, strongest first.
+    pub fn cancel(&self, scene: &Scene<'_>, hint: &ObjectHint) -> Vec<Reflector, MAX_REFLECTORS> {
+        // Keep the object's span plus a main lobe (first null of the array at sin = 2/span).
+        let guard = 2.0 / self.array.span() as f32;
+        let keep = [(hint.span.0 - guard, hint.span.1 + guard)];
+        sic::cancel(
+            &scene.spectra,
+            &self.geometry(),
+            &scene.peaks,
+            self.azimuth_len(),
+            &keep,
+            SIC_STOP_RATIO,
+        )
+    }
+
+    /// The depth search for one object with `reflectors` cancelled. `scores` holds M values.
+    ///
+    /// # Errors
+    /// [`PipelineError::Search`] if the search cannot run (empty contour, range, buffers).
+    pub fn search(
+        &self,
+        scene: &mut Scene<'_>,
+        hint: &ObjectHint,
+        reflectors: &[Reflector],
+        scores: &mut [f32],
+    ) -> Result<ObjectReport, PipelineError> {
+        let search = depth::coarse_to_fine(
+            &scene.spectra,
+            &self.geometry(),
+            &hint.contour,
+            self.bins(hint),
+            reflectors,
+            scene.free,
+            scores,
+        )?;
+        Ok(ObjectReport {
+            id: hint.id,
+            class: hint.class,
+            search,
+            cancelled: reflectors.len() as u8,
+        })
+    }
+
+    /// SIC, then the depth search, for one object. `scores` holds M values.
+    ///
+    /// # Errors
+    /// [`PipelineError::Search`] if the search cannot run (empty contour, range, buffers).
+    pub fn object(
+        &self,
+        scene: &mut Scene<'_>,
+        hint: &ObjectHint,
+        scores: &mut [f32],
+    ) -> Result<ObjectReport, PipelineError> {
+        let reflectors = self.cancel(scene, hint);
+        self.search(scene, hint, &reflectors, scores)
+    }
+}
