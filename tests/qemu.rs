@@ -41,3 +41,52 @@ fn firmware_self_test_matches_host_bit_for_bit() {
     );
     assert_eq!(module, host, "the module and the host disagree");
 }
+
+/// The module pipeline on the cascade-86 budget scene (4 objects, 3 clutter reflectors): the M7
+/// must report exactly what the host computes, and both must find every object within 5 cm.
+#[test]
+fn pipeline_on_the_m7_matches_host_and_truth() {
+    use dsp::fixed::CQ15;
+    use dsp::pipeline::Edge;
+    use firmware::bench_scene::{self, N};
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        eprintln!("SKIPPED: qemu-system-arm not installed");
+        return;
+    }
+    let elf = qemu::build("pipeline-icount").unwrap();
+    let out = qemu::run(&elf, true, Duration::from_secs(120)).unwrap();
+    let module: Vec<&str> = out.lines().filter(|l| l.starts_with("PIPELINE ")).collect();
+    // The same pipeline on the host.
+    let config = bench_scene::config();
+    let edge = Edge::new(&config).unwrap();
+    let mut arena = vec![0u32; bench_scene::ARENA_WORDS];
+    let mut frame = edge.start(&mut arena).unwrap();
+    let mut chirp = [CQ15::default(); N];
+    for c in 0..config.chirps_per_frame() {
+        for rx in 0..config.rx_count() {
+            bench_scene::chirp(&config, c, rx, &mut chirp);
+            edge.push(&mut frame, c, rx, &chirp).unwrap();
+        }
+    }
+    let (mut row, mut az, mut pw) = ([CQ15::default(); N], [CQ15::default(); 256], [0u64; 768]);
+    let mut scene = edge.finish(frame, &mut row, &mut az, &mut pw).unwrap();
+    let mut scores = [0.0f32; N];
+    let mut host = Vec::new();
+    for (i, hint) in bench_scene::hints().iter().enumerate() {
+        let r = edge.object(&mut scene, hint, &mut scores).unwrap();
+        assert!(
+            (r.search.depth_m - bench_scene::truth_m(i)).abs() < 0.05 && r.detected(),
+            "object {i}: {r:?}"
+        );
+        host.push(format!(
+            "PIPELINE object={} depth_mm={} cancelled={} detected={} macs={}",
+            i,
+            (r.search.depth_m * 1000.0) as i32,
+            r.cancelled,
+            r.detected(),
+            r.search.macs
+        ));
+    }
+    assert_eq!(module, host, "the module and the host disagree:\n{out}");
+}

@@ -17,6 +17,15 @@ pub const MAX_RX: usize = 16;
 /// Most TDM chirp slots in one loop.
 pub const MAX_SLOTS: usize = 16;
 
+/// Reference antenna layouts (positions in half-wavelengths).
+pub mod boards {
+    /// TI MMWCAS cascade TX azimuth positions: nine at 0..32 step 4 and three elevated ones that
+    /// overlap in azimuth; with [`CASCADE_RX`] they give 86 distinct virtual positions.
+    pub const CASCADE_TX: [i16; 12] = [11, 10, 9, 32, 28, 24, 20, 16, 12, 8, 4, 0];
+    /// TI MMWCAS cascade RX positions.
+    pub const CASCADE_RX: [i16; 16] = [11, 12, 13, 14, 50, 51, 52, 53, 46, 47, 48, 49, 0, 1, 2, 3];
+}
+
 /// An FMCW TDM-MIMO radar configuration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RadarConfig {

@@ -2,12 +2,14 @@
 //!
 //! * [`selftest`]: deterministic DSP workloads whose output hashes the host recomputes, proving
 //!   the module computes the same bits as x86;
+//! * [`bench_scene`]: the cascade-86, 4-object frame of the instruction budget;
 //! * [`workload`]: the inputs of those workloads and of the instruction-count benchmarks;
 //! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
 //!   panic handlers.
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod bench_scene;
 #[cfg(target_os = "none")]
 pub mod board;
 pub mod selftest;

@@ -8,7 +8,7 @@ mod float;
 mod q15;
 mod q31;
 mod reorder;
-mod simd;
+pub(crate) mod simd;
 pub(crate) mod twiddle;
 
 /// Short name of the f32 complex type used for f32 spectra.

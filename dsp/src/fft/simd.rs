@@ -60,6 +60,23 @@ mod imp {
         smlsd = "smlsd";
         smladx = "smladx";
     }
+
+    macro_rules! mac_long {
+        ($($name:ident = $ins:literal;)*) => {$(
+            #[inline(always)]
+            pub fn $name(a: u32, b: u32, acc: i64) -> i64 {
+                let (mut lo, mut hi) = (acc as u32, (acc >> 32) as u32);
+                // SAFETY: a register-only DSP instruction without side effects.
+                unsafe { asm!(concat!($ins, " {lo}, {hi}, {a}, {b}"), lo = inout(reg) lo, hi = inout(reg) hi, a = in(reg) a, b = in(reg) b, options(pure, nomem, nostack, preserves_flags)) };
+                (((hi as u64) << 32) | lo as u64) as i64
+            }
+        )*};
+    }
+
+    mac_long! {
+        smlsld = "smlsld";
+        smlaldx = "smlaldx";
+    }
 }
 
 #[cfg(not(arm_dsp))]
@@ -112,6 +129,12 @@ mod imp {
         (lo(a) * hi(b))
             .wrapping_add(hi(a) * lo(b))
             .wrapping_add(acc)
+    }
+    pub fn smlsld(a: u32, b: u32, acc: i64) -> i64 {
+        acc.wrapping_add(lo(a) as i64 * lo(b) as i64 - hi(a) as i64 * hi(b) as i64)
+    }
+    pub fn smlaldx(a: u32, b: u32, acc: i64) -> i64 {
+        acc.wrapping_add(lo(a) as i64 * hi(b) as i64 + hi(a) as i64 * lo(b) as i64)
     }
 }
 
@@ -167,6 +190,12 @@ mod tests {
         assert_eq!(ssax(p(10, 20), p(1, 2)), p(12, 19));
         assert_eq!(smlsd(p(3, 4), p(5, 6), 7), 3 * 5 - 4 * 6 + 7);
         assert_eq!(smladx(p(3, 4), p(5, 6), 7), 3 * 6 + 4 * 5 + 7);
+        let big = 1i64 << 40;
+        assert_eq!(
+            smlsld(p(-32768, 32767), p(-32768, -32768), big),
+            big + (1 << 30) + 32767 * 32768
+        );
+        assert_eq!(smlaldx(p(3, -4), p(5, 6), -big), -big + 3 * 6 - 4 * 5);
         // (0.5 + 0.25j) · j = −0.25 + 0.5j
         assert_eq!(rotate(p(16384, 8192), p(0, 32767)), p(-8192, 16384));
     }

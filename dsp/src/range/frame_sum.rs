@@ -255,6 +255,13 @@ impl<'a> Spectra<'a> {
         }
     }
 
+    /// Bin `k` of every element, as packed words (empty beyond the spectrum).
+    #[inline]
+    pub fn column(&self, k: usize) -> impl Iterator<Item = &u32> {
+        let start = if k < self.m { k } else { self.words.len() };
+        self.words[start..].iter().step_by(self.m)
+    }
+
     /// Element `e`'s row as packed words.
     pub fn row(&self, e: usize) -> &[u32] {
         self.words.get(e * self.m..(e + 1) * self.m).unwrap_or(&[])

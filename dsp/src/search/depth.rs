@@ -16,7 +16,7 @@
 //! `f32` with `libm` (the M7 has a single-precision FPU; IEEE operations give the same bits on
 //! every platform).
 
-use super::contour::Contour;
+use super::contour::{Contour, MAX_CONTOUR};
 use super::kernel::for_each_weight;
 use crate::clutter::sic::{Reflector, Residual};
 pub use crate::fft::C32;
@@ -262,7 +262,22 @@ pub fn coarse_to_fine(
     let reach = offset(contour.depth_extent()) + 2;
     let first = lo.saturating_sub(INTERP_HALF_WIDTH + 2);
     let len = (hi + reach + INTERP_HALF_WIDTH + 2).min(m) - first;
-    let need = 2 * k * len;
+    // Points within a quarter beamwidth (sin step 1/(2·span)) share one beam.
+    let span = geo.positions.last().map_or(1, |&p| p as usize + 1);
+    let grid = 0.5 / span as f32;
+    let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
+    let mut beam_of = [0usize; MAX_CONTOUR];
+    for (slot, pt) in beam_of.iter_mut().zip(contour.points()) {
+        let s = libm::roundf(pt.sin_az / grid) * grid;
+        *slot = match dirs.iter().position(|&d| d == s) {
+            Some(i) => i,
+            None => {
+                let _ = dirs.push(s);
+                dirs.len() - 1
+            }
+        };
+    }
+    let need = 2 * dirs.len() * len;
     let Some(words) = profiles.get_mut(..need) else {
         return Err(SearchError::Buffer {
             what: "profiles",
@@ -272,9 +287,9 @@ pub fn coarse_to_fine(
     };
     let mut prof = Profiles { words, first, len };
     let mut macs = 0u64;
-    // 1. Beamform toward each contour point: K·E·len, integer.
-    for (i, pt) in contour.points().iter().enumerate() {
-        let beam = Residual::new(spectra, geo, reflectors, pt.sin_az);
+    // 1. Beamform toward each distinct direction: U·E·len, integer.
+    for (i, &s) in dirs.iter().enumerate() {
+        let beam = Residual::new(spectra, geo, reflectors, s);
         for j in 0..len {
             prof.set(i, j, beam.at(first + j));
         }
@@ -285,7 +300,7 @@ pub fn coarse_to_fine(
     for d in lo..=hi {
         let mut p = 0.0;
         for (i, pt) in contour.points().iter().enumerate() {
-            p += prof.get(i, d + offset(pt.rel_range_m)).norm_sqr();
+            p += prof.get(beam_of[i], d + offset(pt.rel_range_m)).norm_sqr();
         }
         scores[d] = p;
         macs += k as u64;
@@ -324,7 +339,9 @@ pub fn coarse_to_fine(
                 let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
                 let width = (2 * INTERP_HALF_WIDTH + 2).min(m - b0.min(m));
                 let mut z = C32::new(0.0, 0.0);
-                for_each_weight(f, b0, width, geo.samples, m, |b, w| z += prof.get(i, b) * w);
+                for_each_weight(f, b0, width, geo.samples, m, |b, w| {
+                    z += prof.get(beam_of[i], b) * w
+                });
                 macs += width as u64;
                 p += z.norm_sqr();
             }

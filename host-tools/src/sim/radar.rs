@@ -15,10 +15,7 @@ pub enum RadarKind {
     Cascade,
 }
 
-/// TX azimuth positions of the cascade board (λ/2 units): nine at 0..32 step 4, three elevated
-/// ones that overlap in azimuth; with the RX positions below they give 86 distinct positions.
-const CASCADE_TX: [i16; 12] = [11, 10, 9, 32, 28, 24, 20, 16, 12, 8, 4, 0];
-const CASCADE_RX: [i16; 16] = [11, 12, 13, 14, 50, 51, 52, 53, 46, 47, 48, 49, 0, 1, 2, 3];
+use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
 
 /// Complex ADC sample rate of both boards, Hz.
 const SAMPLE_RATE: f64 = 10.0e6;
