@@ -120,7 +120,7 @@ fn benches(c: &mut Criterion) {
     }
     let bins = edge.bins(&hint);
     g.bench_function("brute_force", |b| {
-        b.iter(|| black_box(brute_force(samples, &geo, &hint.contour, bins).ok()))
+        b.iter(|| black_box(brute_force(samples, &geo, &edge.contour(&hint), bins).ok()))
     });
     g.finish();
 }

@@ -326,6 +326,12 @@ impl Edge {
         (first.clamp(1.0, max_bin - 2.0), max_bin)
     }
 
+    /// The contour the search uses for `hint`: directions rounded to a quarter of the array's
+    /// beamwidth (sin step 1/(2·span)), so nearby points share a beam at a loss below 0.2 dB.
+    pub fn contour(&self, hint: &ObjectHint) -> Contour {
+        hint.contour.snapped(0.5 / self.array.span() as f32)
+    }
+
     /// SIC for one object: the reflectors outside its span, strongest first.
     pub fn cancel(&self, scene: &Scene<'_>, hint: &ObjectHint) -> Vec<Reflector, MAX_REFLECTORS> {
         // Keep the object's span plus a main lobe (first null of the array at sin = 2/span).
@@ -355,7 +361,7 @@ impl Edge {
         let search = depth::coarse_to_fine(
             &scene.spectra,
             &self.geometry(),
-            &hint.contour,
+            &self.contour(hint),
             self.bins(hint),
             reflectors,
             scene.free,

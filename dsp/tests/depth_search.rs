@@ -140,7 +140,7 @@ fn pipeline_cancels_clutter_and_matches_brute_force() {
         c.subtract_from(&mut r.samples, &geo, &r.window, r.exponent);
     }
     let bins = r.edge.bins(&hint);
-    let reference = brute_force(&r.samples, &geo, &hint.contour, bins).unwrap();
+    let reference = brute_force(&r.samples, &geo, &r.edge.contour(&hint), bins).unwrap();
     let step = 1.0 / FINE_STEPS_PER_BIN as f32;
     assert!(
         (fast.search.depth_bins - reference.depth_bins).abs() <= step + 1e-4,

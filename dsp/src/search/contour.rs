@@ -55,6 +55,18 @@ impl Contour {
         self.points.is_empty()
     }
 
+    /// The contour with each sin(azimuth) rounded to a multiple of `step` (the search then
+    /// beamforms once per distinct direction).
+    pub fn snapped(&self, step: f32) -> Self {
+        let mut c = self.clone();
+        if step > 0.0 {
+            for p in c.points.iter_mut() {
+                p.sin_az = (libm::roundf(p.sin_az / step) * step).clamp(-1.0, 1.0);
+            }
+        }
+        c
+    }
+
     /// Largest relative range, m.
     pub fn depth_extent(&self) -> f32 {
         self.points

@@ -262,13 +262,11 @@ pub fn coarse_to_fine(
     let reach = offset(contour.depth_extent()) + 2;
     let first = lo.saturating_sub(INTERP_HALF_WIDTH + 2);
     let len = (hi + reach + INTERP_HALF_WIDTH + 2).min(m) - first;
-    // Points within a quarter beamwidth (sin step 1/(2·span)) share one beam.
-    let span = geo.positions.last().map_or(1, |&p| p as usize + 1);
-    let grid = 0.5 / span as f32;
+    // Points in the same direction share one beam (see `Contour::snapped`).
     let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
     let mut beam_of = [0usize; MAX_CONTOUR];
     for (slot, pt) in beam_of.iter_mut().zip(contour.points()) {
-        let s = libm::roundf(pt.sin_az / grid) * grid;
+        let s = pt.sin_az;
         *slot = match dirs.iter().position(|&d| d == s) {
             Some(i) => i,
             None => {

@@ -419,8 +419,8 @@ pub fn both_searches(
     for r in &p.reflectors {
         r.subtract_from(&mut samples, &geo, &scene.window, scene.exponent);
     }
-    let reference =
-        brute_force(&samples, &geo, &p.hint.contour, p.bins).map_err(|e| e.to_string())?;
+    let contour = scene.edge.contour(&p.hint);
+    let reference = brute_force(&samples, &geo, &contour, p.bins).map_err(|e| e.to_string())?;
     Ok((fast, reference))
 }
 
