@@ -17,7 +17,7 @@
 //! every platform).
 
 use super::contour::{Contour, MAX_CONTOUR};
-use super::kernel::for_each_weight;
+use super::kernel::Interpolator;
 use crate::clutter::sic::{Reflector, Residual};
 pub use crate::fft::C32;
 use crate::range::Spectra;
@@ -254,6 +254,11 @@ pub fn coarse_to_fine(
     check("scores", m, scores.len())?;
     fine_steps(bins, m)?;
     let offset = |rel_m: f32| libm::roundf(rel_m / geo.bin_m) as usize;
+    // Each point's coarse offset and fractional offset in bins, computed once.
+    let mut offsets = [(0usize, 0.0f32); MAX_CONTOUR];
+    for (o, pt) in offsets.iter_mut().zip(contour.points()) {
+        *o = (offset(pt.rel_range_m), pt.rel_range_m / geo.bin_m);
+    }
     let (lo, hi) = (
         libm::ceilf(bins.0) as usize,
         (libm::floorf(bins.1) as usize).min(m - 1),
@@ -297,8 +302,8 @@ pub fn coarse_to_fine(
     scores.fill(0.0);
     for d in lo..=hi {
         let mut p = 0.0;
-        for (i, pt) in contour.points().iter().enumerate() {
-            p += prof.get(beam_of[i], d + offset(pt.rel_range_m)).norm_sqr();
+        for (&b, &(o, _)) in beam_of.iter().zip(&offsets).take(k) {
+            p += prof.get(b, d + o).norm_sqr();
         }
         scores[d] = p;
         macs += k as u64;
@@ -322,6 +327,7 @@ pub fn coarse_to_fine(
     }
     let mut best = (f32::NEG_INFINITY, 0.0f32);
     let fine = FINE_STEPS_PER_BIN as f32;
+    let interp = Interpolator::new(geo.samples, m);
     for &cand in cands.iter().filter(|&&d| d != usize::MAX) {
         // Fine grid points within ±1 bin, aligned with brute_force's grid from bins.0.
         let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
@@ -332,14 +338,12 @@ pub fn coarse_to_fine(
                 break;
             }
             let mut p = 0.0;
-            for (i, pt) in contour.points().iter().enumerate() {
-                let f = d + pt.rel_range_m / geo.bin_m;
+            for (&beam, &(_, rel)) in beam_of.iter().zip(&offsets).take(k) {
+                let f = d + rel;
                 let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
                 let width = (2 * INTERP_HALF_WIDTH + 2).min(m - b0.min(m));
                 let mut z = C32::new(0.0, 0.0);
-                for_each_weight(f, b0, width, geo.samples, m, |b, w| {
-                    z += prof.get(beam_of[i], b) * w
-                });
+                interp.for_each(f, b0, width, |b, w| z += prof.get(beam, b) * w);
                 macs += width as u64;
                 p += z.norm_sqr();
             }

@@ -56,39 +56,57 @@ pub fn array_factor(positions: &[u16], counts: &[u8], u: f32) -> C32 {
     C32::new(re as f32 / 32768.0, im as f32 / 32768.0)
 }
 
-/// Interpolation of a zero-padded spectrum at fractional bin `f` from bins `first..first+len`:
-/// calls `each(b, D(b − f))` (see [`dirichlet`]) with the sines advanced by rotation instead of
-/// evaluated per bin. O(len).
-pub fn for_each_weight(
-    f: f32,
-    first: usize,
-    len: usize,
+/// Interpolation weights of a zero-padded spectrum (N samples, M bins): the per-bin rotations
+/// are computed once, so each interpolation costs three `sincos` for its start angles.
+#[derive(Clone, Copy, Debug)]
+pub struct Interpolator {
     n: usize,
     m: usize,
-    mut each: impl FnMut(usize, C32),
-) {
-    use core::f32::consts::PI;
-    let (nf, mf) = (n as f32, m as f32);
-    let x0 = first as f32 - f;
-    let rot = |a: f32| C32::new(libm::cosf(a), libm::sinf(a));
-    // Angles πxN/M (numerator), πx/M (denominator), πx(N−1)/M (phase), each stepped by x += 1.
-    let (mut num, mut den, mut ph) = (
-        rot(PI * x0 * nf / mf),
-        rot(PI * x0 / mf),
-        rot(PI * x0 * (nf - 1.0) / mf),
-    );
-    let (dn, dd, dp) = (rot(PI * nf / mf), rot(PI / mf), rot(PI * (nf - 1.0) / mf));
-    for t in 0..len {
-        let w = if den.im.abs() < 2e-3 {
-            let (re, im) = dirichlet(x0 + t as f32, n, m);
-            C32::new(re, im)
-        } else {
-            ph * (num.im / (mf * den.im))
-        };
-        each(first + t, w);
-        num *= dn;
-        den *= dd;
-        ph *= dp;
+    /// Rotations by πN/M, π/M and π(N−1)/M: one bin's step of each angle.
+    steps: [C32; 3],
+}
+
+fn rot(a: f32) -> C32 {
+    C32::new(libm::cosf(a), libm::sinf(a))
+}
+
+impl Interpolator {
+    /// For `n` samples in an `m`-point spectrum.
+    pub fn new(n: usize, m: usize) -> Self {
+        use core::f32::consts::PI;
+        let (nf, mf) = (n as f32, m as f32);
+        Self {
+            n,
+            m,
+            steps: [rot(PI * nf / mf), rot(PI / mf), rot(PI * (nf - 1.0) / mf)],
+        }
+    }
+
+    /// Calls `each(b, D(b − f))` (see [`dirichlet`]) for bins `first..first + len`, the sines
+    /// advanced by rotation instead of evaluated per bin. O(len).
+    pub fn for_each(&self, f: f32, first: usize, len: usize, mut each: impl FnMut(usize, C32)) {
+        use core::f32::consts::PI;
+        let (nf, mf) = (self.n as f32, self.m as f32);
+        let x0 = first as f32 - f;
+        // Angles πxN/M (numerator), πx/M (denominator), πx(N−1)/M (phase), stepped by x += 1.
+        let (mut num, mut den, mut ph) = (
+            rot(PI * x0 * nf / mf),
+            rot(PI * x0 / mf),
+            rot(PI * x0 * (nf - 1.0) / mf),
+        );
+        let [dn, dd, dp] = self.steps;
+        for t in 0..len {
+            let w = if den.im.abs() < 2e-3 {
+                let (re, im) = dirichlet(x0 + t as f32, self.n, self.m);
+                C32::new(re, im)
+            } else {
+                ph * (num.im / (mf * den.im))
+            };
+            each(first + t, w);
+            num *= dn;
+            den *= dd;
+            ph *= dp;
+        }
     }
 }
 
@@ -149,7 +167,7 @@ mod tests {
     fn rotated_weights_match_dirichlet() {
         let (n, m) = (400usize, 512usize);
         for f in [100.0f32, 100.3, 117.77] {
-            for_each_weight(f, 80, 48, n, m, |b, w| {
+            Interpolator::new(n, m).for_each(f, 80, 48, |b, w| {
                 let (re, im) = dirichlet(b as f32 - f, n, m);
                 assert!(
                     (w.re - re).abs() < 1e-4 && (w.im - im).abs() < 1e-4,
