@@ -27,7 +27,7 @@ pub mod boards {
 }
 
 /// An FMCW TDM-MIMO radar configuration.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RadarConfig {
     /// Carrier at the start of the ramp, Hz.
     pub start_frequency_hz: f64,

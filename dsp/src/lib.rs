@@ -12,6 +12,7 @@
 //! * [`detect`]: CA/OS-CFAR and peak interpolation;
 //! * [`search`]: contour templates and the depth search;
 //! * [`pipeline`]: the module's per-frame job (sums → spectra → SIC → search per object);
+//! * [`wire`]: the authenticated telemetry link between the module and the host;
 //!
 //! on top of [`fixed`] (Q15/Q31 and complex values), [`fft`], [`window`], [`trig`] and the
 //! radar geometry in [`config`] and [`units`].
@@ -36,3 +37,4 @@ pub mod search;
 pub mod trig;
 pub mod units;
 pub mod window;
+pub mod wire;

@@ -1,0 +1,115 @@
+//! The envelope around every message: header, postcard payload, tag, all COBS-encoded and
+//! ended by a zero byte.
+//!
+//! ```text
+//! raw  = version:u8 ‖ stream:u8 ‖ counter:u32 LE ‖ payload (postcard) ‖ tag (TAG_LEN bytes)
+//! wire = COBS(raw) ‖ 0x00
+//! tag  = HMAC-SHA-256(key, version ‖ stream ‖ counter ‖ payload)[..TAG_LEN]
+//! ```
+//!
+//! The counter is the sender's, starting at 1 and increasing by one per frame; the receiver
+//! uses it against replays and to detect loss and reordering. The stream byte keeps an uplink
+//! frame from being reflected back as a downlink one.
+
+use super::VERSION;
+use super::auth::{Key, TAG_LEN};
+use core::fmt;
+use serde::Serialize;
+
+/// Header bytes before the payload.
+pub const HEADER_LEN: usize = 6;
+/// Largest payload (postcard bytes) of one frame.
+pub const MAX_PAYLOAD: usize = 384;
+/// Largest raw (decoded) frame.
+pub const MAX_RAW: usize = HEADER_LEN + MAX_PAYLOAD + TAG_LEN;
+/// Largest frame on the wire, COBS overhead and delimiter included.
+pub const MAX_WIRE: usize = cobs::max_encoding_length(MAX_RAW) + 1;
+
+/// Direction of a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Stream {
+    /// Module to host.
+    Uplink = 0x55,
+    /// Host to module.
+    Downlink = 0xD1,
+}
+
+/// Why a message could not be framed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EncodeError {
+    /// The message does not fit [`MAX_PAYLOAD`] bytes.
+    TooLarge,
+    /// The output buffer is smaller than [`MAX_WIRE`].
+    Buffer,
+    /// The counter reached `u32::MAX`: re-key the link.
+    CounterExhausted,
+}
+
+impl fmt::Display for EncodeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::TooLarge => write!(
+                f,
+                "the message exceeds {MAX_PAYLOAD} bytes: send fewer items"
+            ),
+            Self::Buffer => write!(f, "the frame buffer must hold {MAX_WIRE} bytes"),
+            Self::CounterExhausted => {
+                write!(
+                    f,
+                    "the link counter is exhausted: restart the link with a new key"
+                )
+            }
+        }
+    }
+}
+
+/// Frames messages of one direction: owns the key and the counter.
+#[derive(Debug)]
+pub struct Sender {
+    key: Key,
+    stream: Stream,
+    counter: u32,
+}
+
+impl Sender {
+    /// A sender on `stream` whose first frame carries counter 1.
+    pub fn new(key: Key, stream: Stream) -> Self {
+        Self {
+            key,
+            stream,
+            counter: 0,
+        }
+    }
+
+    /// Counter of the last frame sent (0: none yet).
+    pub fn counter(&self) -> u32 {
+        self.counter
+    }
+
+    /// Frames `msg` into `out` (at least [`MAX_WIRE`] bytes); returns the bytes to send,
+    /// delimiter included. O(size).
+    ///
+    /// # Errors
+    /// [`EncodeError`] if the message is too large, `out` too small or the counter exhausted.
+    pub fn encode<M: Serialize>(&mut self, msg: &M, out: &mut [u8]) -> Result<usize, EncodeError> {
+        let counter = self
+            .counter
+            .checked_add(1)
+            .ok_or(EncodeError::CounterExhausted)?;
+        let mut raw = [0u8; MAX_RAW];
+        raw[0] = VERSION;
+        raw[1] = self.stream as u8;
+        raw[2..HEADER_LEN].copy_from_slice(&counter.to_le_bytes());
+        let payload = postcard::to_slice(msg, &mut raw[HEADER_LEN..HEADER_LEN + MAX_PAYLOAD])
+            .map_err(|_| EncodeError::TooLarge)?
+            .len();
+        let body = HEADER_LEN + payload;
+        let tag = self.key.tag(&raw[..body]);
+        raw[body..body + TAG_LEN].copy_from_slice(&tag);
+        let n = cobs::try_encode(&raw[..body + TAG_LEN], out).map_err(|_| EncodeError::Buffer)?;
+        *out.get_mut(n).ok_or(EncodeError::Buffer)? = 0;
+        self.counter = counter;
+        Ok(n + 1)
+    }
+}

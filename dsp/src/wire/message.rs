@@ -1,0 +1,282 @@
+//! What travels on the link, both ways: postcard-encoded enums whose integer fields are varints.
+//!
+//! Units are fixed on the wire so both ends agree to the bit: sines of azimuth in Q15
+//! (`sin θ · 32767`, rounded), ranges in millimetres. The host's in-process pipeline quantizes
+//! its hints and results through the same conversions ([`Hint::from_object`],
+//! [`ObjectResult::from_report`]), so in-process and on-module answers are identical.
+
+use crate::config::RadarConfig;
+use crate::pipeline::{ObjectHint, ObjectReport};
+use crate::search::{Contour, MAX_CONTOUR};
+use heapless::Vec;
+use serde::{Deserialize, Serialize};
+
+/// Objects per frame the module accepts.
+pub const MAX_OBJECTS: usize = 16;
+/// Clutter directions per frame the host may name.
+pub const MAX_CLUTTER: usize = 16;
+
+/// `sin θ` as Q15 (saturating).
+pub fn sin_to_q15(s: f32) -> i16 {
+    libm::roundf(s.clamp(-1.0, 1.0) * 32767.0) as i16
+}
+
+/// Q15 back to `sin θ`.
+pub fn q15_to_sin(q: i16) -> f32 {
+    (q as f32 / 32767.0).clamp(-1.0, 1.0)
+}
+
+/// Metres to millimetres, rounded and saturated to `u32` (negative and NaN give 0).
+pub fn m_to_mm(m: f32) -> u32 {
+    if m.is_nan() || m <= 0.0 {
+        0
+    } else {
+        libm::roundf((m * 1000.0).min(u32::MAX as f32)) as u32
+    }
+}
+
+/// One contour point: direction and range behind the closest point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WirePoint {
+    /// `sin θ`, Q15.
+    pub sin_az: i16,
+    /// Range relative to the contour's closest point, mm (saturates at 65.535 m).
+    pub rel_mm: u16,
+}
+
+/// Downlink: what the camera says about one object of a frame.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Hint {
+    /// Frame the hint is for.
+    pub frame: u32,
+    /// Instance id.
+    pub instance: u16,
+    /// Class code (the host's segmentation class; opaque to the module).
+    pub class: u8,
+    /// `sin θ` of the mask's left and right edges, Q15.
+    pub span: (i16, i16),
+    /// Monocular range of the closest point, mm (0: unknown).
+    pub prior_mm: u32,
+    /// The contour, at most [`MAX_CONTOUR`] points.
+    pub contour: Vec<WirePoint, MAX_CONTOUR>,
+}
+
+impl Hint {
+    /// The wire form of `hint` for `frame`. O(contour).
+    pub fn from_object(frame: u32, hint: &ObjectHint) -> Self {
+        Self {
+            frame,
+            instance: hint.id,
+            class: hint.class,
+            span: (sin_to_q15(hint.span.0), sin_to_q15(hint.span.1)),
+            prior_mm: m_to_mm(hint.prior_m),
+            contour: hint
+                .contour
+                .points()
+                .iter()
+                .map(|p| WirePoint {
+                    sin_az: sin_to_q15(p.sin_az),
+                    rel_mm: m_to_mm(p.rel_range_m).min(u16::MAX as u32) as u16,
+                })
+                .collect(),
+        }
+    }
+
+    /// The pipeline's hint. O(contour).
+    pub fn to_object(&self) -> ObjectHint {
+        ObjectHint {
+            id: self.instance,
+            class: self.class,
+            span: (q15_to_sin(self.span.0), q15_to_sin(self.span.1)),
+            prior_m: self.prior_mm as f32 / 1000.0,
+            contour: Contour::new(
+                self.contour
+                    .iter()
+                    .map(|p| (q15_to_sin(p.sin_az), p.rel_mm as f32 / 1000.0)),
+            ),
+        }
+    }
+}
+
+/// A strong object the host knows is clutter (not searched), by direction and class.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Clutter {
+    /// `sin θ`, Q15.
+    pub sin_az: i16,
+    /// Class code.
+    pub class: u8,
+}
+
+/// Downlink messages.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Downlink {
+    /// The radar configuration; the module (re)builds its pipeline. Sent first.
+    Config(RadarConfig),
+    /// One object of the next frame.
+    Hint(Hint),
+    /// Process frame `frame` from the capture source with the hints received for it.
+    Frame {
+        /// Frame number.
+        frame: u32,
+        /// Hints sent for it (the module reports a mismatch as lost hints).
+        objects: u8,
+        /// Clutter the camera recognized (informational: SIC finds clutter in the radar data).
+        clutter: Vec<Clutter, MAX_CLUTTER>,
+    },
+    /// Send the health counters now.
+    Health,
+    /// Stop: the module sends its health counters and halts.
+    Stop,
+}
+
+/// Uplink: the module's answer for one object, at most 16 bytes on the wire for depths below
+/// 2 km and frame numbers below 2²¹.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ObjectResult {
+    /// Frame number.
+    pub frame: u32,
+    /// Instance id.
+    pub instance: u16,
+    /// Class code.
+    pub class: u8,
+    /// Depth of the object's closest point, mm.
+    pub depth_mm: u32,
+    /// `sin θ` of the closest contour point, Q15.
+    pub sin_az: i16,
+    /// 0: not detected; otherwise the peak's height above the search floor in quarter dB
+    /// (1 … 255).
+    pub confidence: u8,
+}
+
+impl ObjectResult {
+    /// The wire form of the pipeline's `report` for `hint` in frame `frame`.
+    pub fn from_report(frame: u32, hint: &ObjectHint, report: &ObjectReport) -> Self {
+        let closest = hint
+            .contour
+            .points()
+            .iter()
+            .min_by(|a, b| a.rel_range_m.total_cmp(&b.rel_range_m))
+            .map_or(0.0, |p| p.sin_az);
+        let confidence = if report.detected() {
+            let db = 10.0 * libm::log10f(report.floor_ratio());
+            libm::roundf(4.0 * db).clamp(1.0, 255.0) as u8
+        } else {
+            0
+        };
+        Self {
+            frame,
+            instance: report.id,
+            class: report.class,
+            depth_mm: m_to_mm(report.search.depth_m),
+            sin_az: sin_to_q15(closest),
+            confidence,
+        }
+    }
+
+    /// Depth in metres.
+    pub fn depth_m(&self) -> f64 {
+        self.depth_mm as f64 / 1000.0
+    }
+
+    /// Whether the module trusts the depth.
+    pub fn detected(&self) -> bool {
+        self.confidence > 0
+    }
+}
+
+/// Uplink: one frame's bookkeeping.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct FrameSummary {
+    /// Frame number.
+    pub frame: u32,
+    /// Objects searched.
+    pub objects: u8,
+    /// Objects detected.
+    pub detected: u8,
+    /// Strong reflectors in the frame's peak list.
+    pub peaks: u8,
+    /// Block exponent of the frame's spectra.
+    pub exponent: i8,
+    /// Time the frame took on the module, µs (monotonic clock).
+    pub busy_us: u32,
+}
+
+/// The link's receive counters (see [`super::receiver`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LinkStats {
+    /// Frames accepted.
+    pub accepted: u32,
+    /// Frames whose COBS, length or payload could not be decoded.
+    pub malformed: u32,
+    /// Frames of another protocol version.
+    pub bad_version: u32,
+    /// Frames whose tag did not verify (forged, corrupted, wrong key or direction).
+    pub bad_tag: u32,
+    /// Frames whose counter was already seen or too old to tell.
+    pub replayed: u32,
+    /// Counters skipped and not (yet) filled in by late frames.
+    pub lost: u32,
+    /// Frames that arrived after a later one.
+    pub reordered: u32,
+    /// Frames longer than the receive buffer.
+    pub overflow: u32,
+}
+
+/// Uplink: the module's health counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Health {
+    /// Frames processed.
+    pub frames: u32,
+    /// Capture errors (short read, wrong size).
+    pub capture_errors: u32,
+    /// Pipeline errors (configuration, search).
+    pub pipeline_errors: u32,
+    /// Protocol errors (message out of order, hint mismatch).
+    pub protocol_errors: u32,
+    /// Uplink messages dropped by the full send queue (oldest first).
+    pub queue_dropped: u32,
+    /// What the downlink receiver saw.
+    pub link: LinkStats,
+}
+
+/// What went wrong on the module, reported as it happens.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Fault {
+    /// A frame arrived before any configuration.
+    NoConfig,
+    /// The configuration does not fit the module (arena, sizes) or is invalid.
+    Config,
+    /// The capture source failed (short read, device error).
+    Capture,
+    /// The pipeline failed on an object.
+    Pipeline,
+    /// A downlink frame was rejected (see [`LinkStats`]).
+    Link,
+    /// More hints than [`MAX_OBJECTS`], or hints of another frame.
+    Hints,
+}
+
+/// Uplink messages.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Uplink {
+    /// The module is up: protocol version and its limits.
+    Hello {
+        /// Firmware version (major · 10000 + minor · 100 + patch).
+        firmware: u32,
+        /// Arena words available for a frame.
+        arena_words: u32,
+    },
+    /// The answer for one object.
+    Result(ObjectResult),
+    /// A frame is done.
+    Summary(FrameSummary),
+    /// Health counters.
+    Health(Health),
+    /// Something failed (counted in [`Health`] too).
+    Fault {
+        /// Frame concerned.
+        frame: u32,
+        /// What.
+        fault: Fault,
+    },
+}

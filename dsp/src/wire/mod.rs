@@ -1,0 +1,26 @@
+//! The telemetry link between the module and the host: messages ([`message`]), framing and
+//! authentication ([`frame`], [`auth`]), the checking receiver ([`receiver`]) and bounded
+//! queues ([`queue`]). Shared verbatim by the firmware and the host tool.
+//!
+//! ```text
+//! host ── Downlink::{Config, Hint…, Frame} ──▶ module ── capture ──▶ pipeline
+//! host ◀── Uplink::{Result…, Summary, Health, Fault} ── module
+//! ```
+//!
+//! Each message travels in one frame: postcard payload, version, direction, counter and a
+//! truncated HMAC-SHA-256 tag, COBS-encoded and delimited by a zero byte.
+
+pub mod auth;
+pub mod frame;
+pub mod message;
+pub mod queue;
+pub mod receiver;
+
+pub use auth::{KEY_LEN, Key, KeyError, TAG_LEN};
+pub use frame::{EncodeError, MAX_WIRE, Sender, Stream};
+pub use message::{Downlink, Fault, FrameSummary, Health, Hint, LinkStats, ObjectResult, Uplink};
+pub use queue::DropOldest;
+pub use receiver::{Deframer, LinkError, Receiver};
+
+/// Protocol version: the first byte of every frame.
+pub const VERSION: u8 = 1;

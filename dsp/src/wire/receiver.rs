@@ -1,0 +1,229 @@
+//! The receiving end: splits the byte stream at zero bytes, checks each frame (COBS, version,
+//! direction, tag, counter) and decodes its message, counting every rejection.
+//!
+//! Replays are rejected with a sliding window over the sender's counter, as in IPsec's
+//! anti-replay check (RFC 4303 §3.4.3): counters above the highest seen advance the window
+//! (the skipped ones count as lost until they arrive); counters inside the window are accepted
+//! once (a reordered frame, which also un-counts a loss); counters below it are rejected as
+//! too old to tell from a replay. The tag is checked before the counter, so forged frames
+//! cannot move the window.
+
+use super::VERSION;
+use super::auth::{Key, TAG_LEN};
+use super::frame::{HEADER_LEN, MAX_RAW, MAX_WIRE, Stream};
+use super::message::LinkStats;
+use core::fmt;
+use serde::Deserialize;
+
+/// Counters the replay window remembers below the highest one.
+pub const WINDOW: u32 = 64;
+
+/// Why a frame was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinkError {
+    /// Not valid COBS, or shorter than a header and a tag.
+    Malformed,
+    /// Longer than [`MAX_WIRE`] bytes before its delimiter.
+    Overflow,
+    /// Another protocol version.
+    Version(u8),
+    /// Tag mismatch: corrupted, forged, wrong key, or a frame of the other direction.
+    Tag,
+    /// Counter already accepted.
+    Replay(u32),
+    /// Counter more than [`WINDOW`] below the highest accepted.
+    Stale(u32),
+    /// Authentic frame whose payload is not a valid message (a sender bug).
+    Payload,
+}
+
+impl fmt::Display for LinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Malformed => write!(
+                f,
+                "malformed frame (COBS or length): check the wiring and baud rate"
+            ),
+            Self::Overflow => write!(
+                f,
+                "frame longer than {MAX_WIRE} bytes: is the peer speaking this protocol?"
+            ),
+            Self::Version(v) => write!(
+                f,
+                "protocol version {v}, expected {VERSION}: update the firmware or the host tool"
+            ),
+            Self::Tag => write!(
+                f,
+                "authentication tag mismatch: check that both ends use the same link key"
+            ),
+            Self::Replay(c) => write!(
+                f,
+                "counter {c} was already received: replayed frame rejected"
+            ),
+            Self::Stale(c) => write!(
+                f,
+                "counter {c} is older than the replay window: frame rejected"
+            ),
+            Self::Payload => write!(
+                f,
+                "authentic frame with an undecodable message: the peer's protocol differs"
+            ),
+        }
+    }
+}
+
+/// Splits a byte stream into frames at zero bytes. Holds at most `N` bytes of one frame;
+/// longer ones are dropped whole and reported once at their delimiter.
+#[derive(Debug)]
+pub struct Deframer<const N: usize = MAX_WIRE> {
+    buf: heapless::Vec<u8, N>,
+    overflowed: bool,
+    complete: bool,
+}
+
+impl<const N: usize> Default for Deframer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Deframer<N> {
+    /// An empty deframer.
+    pub const fn new() -> Self {
+        Self {
+            buf: heapless::Vec::new(),
+            overflowed: false,
+            complete: false,
+        }
+    }
+
+    /// Takes one byte; at a delimiter returns the frame before it (COBS-encoded, without the
+    /// delimiter) or [`LinkError::Overflow`]. Empty frames are skipped. O(1).
+    pub fn push(&mut self, byte: u8) -> Option<Result<&mut [u8], LinkError>> {
+        if self.complete {
+            self.buf.clear();
+            self.complete = false;
+        }
+        if byte != 0 {
+            if self.buf.push(byte).is_err() {
+                self.overflowed = true;
+            }
+            return None;
+        }
+        self.complete = true;
+        if core::mem::take(&mut self.overflowed) {
+            return Some(Err(LinkError::Overflow));
+        }
+        if self.buf.is_empty() {
+            return None;
+        }
+        Some(Ok(self.buf.as_mut_slice()))
+    }
+}
+
+/// Checks and decodes frames of one direction; keeps the replay window and the counters.
+#[derive(Debug)]
+pub struct Receiver {
+    key: Key,
+    stream: Stream,
+    highest: u32,
+    /// Bit i: counter `highest − i` was accepted.
+    seen: u64,
+    stats: LinkStats,
+}
+
+impl Receiver {
+    /// A receiver of `stream` frames under `key`, expecting the sender's counter to start at 1.
+    pub fn new(key: Key, stream: Stream) -> Self {
+        Self {
+            key,
+            stream,
+            highest: 0,
+            seen: 1, // counter 0 is never sent: treat it as seen
+            stats: LinkStats::default(),
+        }
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> LinkStats {
+        self.stats
+    }
+
+    /// Counts a rejection the caller saw before [`Receiver::open`] (e.g. a deframer overflow).
+    pub fn count(&mut self, error: LinkError) {
+        let s = &mut self.stats;
+        let c = match error {
+            LinkError::Malformed | LinkError::Payload => &mut s.malformed,
+            LinkError::Overflow => &mut s.overflow,
+            LinkError::Version(_) => &mut s.bad_version,
+            LinkError::Tag => &mut s.bad_tag,
+            LinkError::Replay(_) | LinkError::Stale(_) => &mut s.replayed,
+        };
+        *c = c.saturating_add(1);
+    }
+
+    /// Checks the COBS-encoded `frame` (decoded in place) and returns its message. Every
+    /// rejection is counted. O(len).
+    ///
+    /// # Errors
+    /// [`LinkError`] naming the first check that failed.
+    pub fn open<'b, M: Deserialize<'b>>(&mut self, frame: &'b mut [u8]) -> Result<M, LinkError> {
+        let r = self.check(frame);
+        if let Err(e) = r {
+            self.count(e);
+        }
+        r
+    }
+
+    fn check<'b, M: Deserialize<'b>>(&mut self, frame: &'b mut [u8]) -> Result<M, LinkError> {
+        if frame.len() > MAX_WIRE {
+            return Err(LinkError::Overflow);
+        }
+        let n = cobs::decode_in_place(frame).map_err(|_| LinkError::Malformed)?;
+        let raw = frame.get(..n).ok_or(LinkError::Malformed)?;
+        if n < HEADER_LEN + TAG_LEN || n > MAX_RAW {
+            return Err(LinkError::Malformed);
+        }
+        let (body, tag) = raw.split_at(n - TAG_LEN);
+        let (header, payload) = body.split_at(HEADER_LEN);
+        if header[0] != VERSION {
+            return Err(LinkError::Version(header[0]));
+        }
+        if header[1] != self.stream as u8 || !self.key.verify(body, tag) {
+            return Err(LinkError::Tag);
+        }
+        let counter = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
+        self.admit(counter)?;
+        match postcard::take_from_bytes::<M>(payload) {
+            Ok((msg, [])) => {
+                self.stats.accepted = self.stats.accepted.saturating_add(1);
+                Ok(msg)
+            }
+            _ => Err(LinkError::Payload),
+        }
+    }
+
+    /// The replay window (see the module docs).
+    fn admit(&mut self, counter: u32) -> Result<(), LinkError> {
+        let s = &mut self.stats;
+        if counter > self.highest {
+            let ahead = counter - self.highest;
+            s.lost = s.lost.saturating_add(ahead - 1);
+            self.seen = if ahead >= 64 { 0 } else { self.seen << ahead } | 1;
+            self.highest = counter;
+            return Ok(());
+        }
+        let behind = self.highest - counter;
+        if behind >= WINDOW {
+            return Err(LinkError::Stale(counter));
+        }
+        let bit = 1u64 << behind;
+        if self.seen & bit != 0 {
+            return Err(LinkError::Replay(counter));
+        }
+        self.seen |= bit;
+        s.reordered = s.reordered.saturating_add(1);
+        s.lost = s.lost.saturating_sub(1);
+        Ok(())
+    }
+}

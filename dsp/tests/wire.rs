@@ -1,0 +1,439 @@
+//! The telemetry link: round trips, authentication, replay window, loss and reordering
+//! accounting, message sizes, and a fuzz run of both decoders on ≥ 1 M random and mutated frames.
+
+use dsp::config::RadarConfig;
+use dsp::pipeline::ObjectHint;
+use dsp::search::Contour;
+use dsp::wire::frame::MAX_PAYLOAD;
+use dsp::wire::message::{Clutter, MAX_CLUTTER};
+use dsp::wire::{
+    Deframer, Downlink, FrameSummary, Health, Hint, Key, LinkError, LinkStats, MAX_WIRE,
+    ObjectResult, Receiver, Sender, Stream, Uplink,
+};
+
+const KEY: [u8; 32] = [7; 32];
+
+fn link(stream: Stream) -> (Sender, Receiver) {
+    (
+        Sender::new(Key::new(&KEY), stream),
+        Receiver::new(Key::new(&KEY), stream),
+    )
+}
+
+fn encode<M: serde::Serialize>(tx: &mut Sender, msg: &M) -> Vec<u8> {
+    let mut out = [0u8; MAX_WIRE];
+    let n = tx.encode(msg, &mut out).unwrap();
+    out[..n].to_vec()
+}
+
+/// Feeds `bytes` through a deframer and receiver; returns what each frame gave.
+fn receive<M: for<'b> serde::Deserialize<'b>>(
+    rx: &mut Receiver,
+    bytes: &[u8],
+) -> Vec<Result<M, LinkError>> {
+    let mut d: Deframer = Deframer::new();
+    let mut got = Vec::new();
+    for &b in bytes {
+        match d.push(b) {
+            Some(Ok(frame)) => got.push(rx.open::<M>(frame)),
+            Some(Err(e)) => {
+                rx.count(e);
+                got.push(Err(e));
+            }
+            None => {}
+        }
+    }
+    got
+}
+
+/// The largest configuration the module takes: the 12 × 16 cascade.
+fn cascade() -> RadarConfig {
+    use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
+    RadarConfig {
+        start_frequency_hz: 77.0e9,
+        slope_hz_per_s: 30.0e12,
+        sample_rate_hz: 10.0e6,
+        adc_samples: 512,
+        chirp_period_s: 59.2e-6,
+        chirps_per_tx: 2,
+        frames: 1,
+        frame_period_s: 0.1,
+        tx_positions: heapless::Vec::from_slice(&CASCADE_TX).unwrap(),
+        rx_positions: heapless::Vec::from_slice(&CASCADE_RX).unwrap(),
+        tx_order: (0..CASCADE_TX.len() as u8).collect(),
+    }
+}
+
+fn result(frame: u32, instance: u16) -> Uplink {
+    Uplink::Result(ObjectResult {
+        frame,
+        instance,
+        class: 3,
+        depth_mm: 41_250,
+        sin_az: -12_000,
+        confidence: 77,
+    })
+}
+
+fn full_hint() -> Hint {
+    let contour = Contour::new((0..64).map(|i| (-0.5 + 0.0125 * i as f32, 40.0 + 0.05 * i as f32)));
+    let hint = ObjectHint {
+        id: 65_000,
+        class: 9,
+        span: (-0.5, 0.3),
+        prior_m: 1234.5,
+        contour,
+    };
+    Hint::from_object(u32::MAX, &hint)
+}
+
+#[test]
+fn messages_round_trip_and_frames_have_no_zero_inside() {
+    let (mut tx, mut rx) = link(Stream::Uplink);
+    let msgs = vec![
+        Uplink::Hello {
+            firmware: 100,
+            arena_words: 90_000,
+        },
+        result(1, 2),
+        Uplink::Summary(FrameSummary {
+            frame: 1,
+            objects: 4,
+            detected: 3,
+            peaks: 64,
+            exponent: -3,
+            busy_us: 90_000,
+        }),
+        Uplink::Health(Health {
+            frames: 9,
+            link: LinkStats {
+                lost: 2,
+                ..Default::default()
+            },
+            ..Default::default()
+        }),
+    ];
+    let mut bytes = Vec::new();
+    for m in &msgs {
+        let f = encode(&mut tx, m);
+        assert_eq!(
+            f.iter().filter(|&&b| b == 0).count(),
+            1,
+            "one delimiter per frame"
+        );
+        assert_eq!(*f.last().unwrap(), 0);
+        bytes.extend(f);
+    }
+    let got: Vec<Uplink> = receive(&mut rx, &bytes)
+        .into_iter()
+        .map(Result::unwrap)
+        .collect();
+    assert_eq!(got, msgs);
+    assert_eq!(rx.stats().accepted, 4);
+    assert_eq!(rx.stats().lost, 0);
+}
+
+#[test]
+fn the_largest_downlink_messages_fit_a_frame() {
+    let (mut tx, mut rx) = link(Stream::Downlink);
+    let hint = Downlink::Hint(full_hint());
+    let mut cfg = cascade();
+    cfg.frames = u32::MAX;
+    let go = Downlink::Frame {
+        frame: u32::MAX,
+        objects: 255,
+        clutter: (0..MAX_CLUTTER)
+            .map(|i| Clutter {
+                sin_az: -32767 + i as i16,
+                class: 255,
+            })
+            .collect(),
+    };
+    for m in [hint, Downlink::Config(cfg), go] {
+        let f = encode(&mut tx, &m);
+        assert!(f.len() <= MAX_WIRE);
+        let got: Vec<Downlink> = receive(&mut rx, &f)
+            .into_iter()
+            .map(Result::unwrap)
+            .collect();
+        assert_eq!(got, vec![m]);
+    }
+}
+
+#[test]
+fn a_result_takes_at_most_16_bytes() {
+    // Worst case the docs promise: ids and classes at their maximum, depth just below 2 km,
+    // frame number just below 2^21, azimuth at its most negative.
+    let r = ObjectResult {
+        frame: (1 << 21) - 1,
+        instance: u16::MAX,
+        class: u8::MAX,
+        depth_mm: 2_097_151,
+        sin_az: -32767,
+        confidence: 255,
+    };
+    let bytes = postcard::to_allocvec(&r).unwrap();
+    assert!(bytes.len() <= 16, "{} bytes", bytes.len());
+    // The framed message adds the enum tag, header, tag and COBS: a fixed overhead.
+    let (mut tx, _) = link(Stream::Uplink);
+    let framed = encode(&mut tx, &Uplink::Result(r));
+    assert!(
+        framed.len() <= bytes.len() + 1 + 6 + 8 + 2,
+        "{}",
+        framed.len()
+    );
+}
+
+#[test]
+fn quantized_hints_survive_the_wire_exactly() {
+    let h = full_hint();
+    let back = Hint::from_object(h.frame, &h.to_object());
+    assert_eq!(back, h, "quantize(dequantize(x)) must be x");
+    assert_eq!(h.contour.len(), 32);
+}
+
+#[test]
+fn tampered_frames_fail_the_tag_and_count() {
+    let (mut tx, mut rx) = link(Stream::Uplink);
+    let f = encode(&mut tx, &result(1, 1));
+    // Flip each bit of the COBS body in turn (not the delimiter).
+    let mut rejected = 0;
+    for i in 0..f.len() - 1 {
+        for bit in 0..8 {
+            let mut g = f.clone();
+            g[i] ^= 1 << bit;
+            let got = receive::<Uplink>(&mut rx, &g);
+            assert!(
+                got.iter().all(|r| r.is_err()),
+                "byte {i} bit {bit} accepted"
+            );
+            rejected += got.len();
+        }
+    }
+    let s = rx.stats();
+    assert_eq!(s.accepted, 0);
+    assert!(rejected > 0);
+    assert_eq!(
+        s.malformed + s.bad_version + s.bad_tag + s.overflow + s.replayed,
+        rejected as u32
+    );
+    assert!(s.bad_tag > 0);
+    // The original still goes through: nothing above moved the replay window.
+    assert!(receive::<Uplink>(&mut rx, &f)[0].is_ok());
+}
+
+#[test]
+fn wrong_key_and_reflected_frames_are_rejected() {
+    let mut other = Sender::new(Key::new(&[8; 32]), Stream::Uplink);
+    let mut rx = Receiver::new(Key::new(&KEY), Stream::Uplink);
+    assert_eq!(
+        receive::<Uplink>(&mut rx, &encode(&mut other, &result(1, 1)))[0],
+        Err(LinkError::Tag)
+    );
+    // A downlink frame under the right key replayed towards the host.
+    let mut down = Sender::new(Key::new(&KEY), Stream::Downlink);
+    assert_eq!(
+        receive::<Uplink>(&mut rx, &encode(&mut down, &Downlink::Stop))[0],
+        Err(LinkError::Tag)
+    );
+    assert_eq!(rx.stats().bad_tag, 2);
+}
+
+#[test]
+fn replays_loss_and_reordering_are_counted() {
+    let (mut tx, mut rx) = link(Stream::Uplink);
+    let frames: Vec<Vec<u8>> = (1..=100).map(|i| encode(&mut tx, &result(i, 0))).collect();
+    // Deliver 1..=10, skip 11 and 12, deliver 13..=20, then 12 late, then 5 again.
+    let mut order: Vec<usize> = (0..10).collect();
+    order.extend(12..20);
+    order.push(11);
+    order.push(4);
+    let got: Vec<_> = order
+        .iter()
+        .flat_map(|&i| receive::<Uplink>(&mut rx, &frames[i]))
+        .collect();
+    assert_eq!(got.last(), Some(&Err(LinkError::Replay(5))));
+    let s = rx.stats();
+    assert_eq!((s.accepted, s.lost, s.reordered, s.replayed), (19, 1, 1, 1));
+    // Jump far ahead: everything older than the window is stale, not accepted.
+    assert!(receive::<Uplink>(&mut rx, &frames[99])[0].is_ok());
+    assert_eq!(
+        receive::<Uplink>(&mut rx, &frames[20])[0],
+        Err(LinkError::Stale(21))
+    );
+    assert_eq!(rx.stats().lost, 1 + 79);
+}
+
+#[test]
+fn overlong_frames_are_dropped_whole_and_the_stream_recovers() {
+    let (mut tx, mut rx) = link(Stream::Uplink);
+    let mut bytes = vec![0x11u8; 3 * MAX_WIRE];
+    bytes.push(0);
+    bytes.extend(encode(&mut tx, &result(1, 1)));
+    let got = receive::<Uplink>(&mut rx, &bytes);
+    assert_eq!(got.len(), 2);
+    assert_eq!(got[0], Err(LinkError::Overflow));
+    assert_eq!(got[1], Ok(result(1, 1)));
+    assert_eq!(rx.stats().overflow, 1);
+}
+
+#[test]
+fn oversized_messages_are_refused_by_the_sender() {
+    let (mut tx, _) = link(Stream::Uplink);
+    #[derive(serde::Serialize)]
+    struct Big(#[serde(with = "serde_bytes_like")] Vec<u8>);
+    mod serde_bytes_like {
+        pub fn serialize<S: serde::Serializer>(v: &[u8], s: S) -> Result<S::Ok, S::Error> {
+            s.serialize_bytes(v)
+        }
+    }
+    let mut out = [0u8; MAX_WIRE];
+    assert!(tx.encode(&Big(vec![1; MAX_PAYLOAD]), &mut out).is_err());
+    assert_eq!(
+        tx.counter(),
+        0,
+        "a refused message must not use up a counter"
+    );
+    assert!(tx.encode(&Big(vec![1; MAX_PAYLOAD - 3]), &mut out).is_ok());
+}
+
+/// xorshift64*: a fast deterministic generator for the fuzz run.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// Mutates `f` the way a noisy line or an attacker would: bit flips, byte overwrites,
+/// truncation, insertion, or a whole random frame.
+fn mutate(rng: &mut Rng, f: &mut Vec<u8>) {
+    match rng.below(6) {
+        0 => {
+            let i = rng.below(f.len());
+            f[i] ^= 1 << rng.below(8);
+        }
+        1 => {
+            let i = rng.below(f.len());
+            f[i] = rng.next() as u8;
+        }
+        2 => f.truncate(rng.below(f.len() + 1)),
+        3 => {
+            let i = rng.below(f.len() + 1);
+            f.insert(i, rng.next() as u8);
+        }
+        4 => {
+            let n = rng.below(2 * MAX_WIRE);
+            *f = (0..n).map(|_| rng.next() as u8).collect();
+        }
+        _ => {} // unchanged: a replay
+    }
+}
+
+/// Frames whose tag is valid but whose payload is random: what a buggy peer sends. These reach
+/// the postcard decoder, which the tag otherwise shields.
+fn signed_garbage(rng: &mut Rng, tx: &mut Sender) -> Vec<u8> {
+    // A tuple of bytes serializes without a length prefix: the payload is exactly these bytes.
+    let n = rng.below(64);
+    let bytes: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
+    let mut out = [0u8; MAX_WIRE];
+    let len = tx.encode(&RawTuple(&bytes), &mut out).unwrap();
+    out[..len].to_vec()
+}
+
+struct RawTuple<'a>(&'a [u8]);
+impl serde::Serialize for RawTuple<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        let mut t = s.serialize_tuple(self.0.len())?;
+        for b in self.0 {
+            t.serialize_element(b)?;
+        }
+        t.end()
+    }
+}
+
+fn fuzz<M: for<'b> serde::Deserialize<'b> + serde::Serialize>(
+    stream: Stream,
+    seeds: &[M],
+    iterations: usize,
+) -> LinkStats {
+    let (mut tx, mut rx) = link(stream);
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ stream as u64);
+    let mut d: Deframer = Deframer::new();
+    let (mut frames, mut bytes_in) = (0usize, 0usize);
+    let mut valid = Vec::new();
+    while frames < iterations {
+        let mut f = match rng.below(8) {
+            0 => signed_garbage(&mut rng, &mut tx),
+            1 | 2 if !valid.is_empty() => {
+                let v: &Vec<u8> = &valid[rng.below(valid.len())];
+                v.clone() // replay of an earlier genuine frame
+            }
+            _ => {
+                let f = encode(&mut tx, &seeds[rng.below(seeds.len())]);
+                if valid.len() < 256 {
+                    valid.push(f.clone());
+                }
+                f
+            }
+        };
+        if rng.below(4) != 0 {
+            mutate(&mut rng, &mut f);
+        }
+        bytes_in += f.len();
+        for b in f {
+            match d.push(b) {
+                Some(Ok(frame)) => {
+                    frames += 1;
+                    let _ = rx.open::<M>(frame);
+                }
+                Some(Err(e)) => {
+                    frames += 1;
+                    rx.count(e);
+                }
+                None => {}
+            }
+        }
+    }
+    assert!(bytes_in > iterations);
+    rx.stats()
+}
+
+#[test]
+fn fuzz_both_decoders_a_million_frames() {
+    let n = 500_000;
+    let up = fuzz(
+        Stream::Uplink,
+        &[
+            result(7, 1),
+            Uplink::Health(Health::default()),
+            Uplink::Summary(FrameSummary::default()),
+        ],
+        n,
+    );
+    let down = fuzz(
+        Stream::Downlink,
+        &[
+            Downlink::Hint(full_hint()),
+            Downlink::Config(cascade()),
+            Downlink::Stop,
+        ],
+        n,
+    );
+    for s in [up, down] {
+        let rejected = s.malformed + s.bad_version + s.bad_tag + s.replayed + s.overflow;
+        // Every frame was either accepted or counted as rejected.
+        assert!(s.accepted + rejected >= n as u32, "{s:?}");
+        assert!(
+            s.accepted > 0 && s.bad_tag > 0 && s.replayed > 0 && s.malformed > 0,
+            "{s:?}"
+        );
+    }
+}
