@@ -143,6 +143,7 @@ pub struct Edge {
     m: usize,
     rx: usize,
     slots: usize,
+    chirps: usize,
     bin_m: f32,
 }
 
@@ -205,6 +206,7 @@ impl Edge {
             m: config.range_fft_len(),
             rx: config.rx_count(),
             slots: config.slots(),
+            chirps: config.chirps_per_frame(),
             bin_m: config.range_bin_size(config.range_fft_len()).0,
         })
     }
@@ -224,6 +226,21 @@ impl Edge {
     /// The virtual array.
     pub fn array(&self) -> &VirtualArray {
         &self.array
+    }
+
+    /// ADC samples per chirp N.
+    pub fn samples(&self) -> u16 {
+        self.n as u16
+    }
+
+    /// Receivers per chirp.
+    pub fn rx_count(&self) -> usize {
+        self.rx
+    }
+
+    /// (chirp, receiver) rows in a frame, in capture order: chirp-major, then receiver.
+    pub fn rows_per_frame(&self) -> usize {
+        self.chirps * self.rx
     }
 
     /// Range FFT length M.

@@ -72,3 +72,100 @@ macro_rules! hard_fault_exits {
         }
     };
 }
+
+impl crate::clock::Monotonic for Timer0 {
+    /// Microseconds from the 25 MHz count (wraps every 171 s of guest time; differences over
+    /// shorter spans stay right).
+    fn micros(&mut self) -> u32 {
+        (u32::MAX - self.now()) / 25
+    }
+}
+
+/// A capture file on the host, read through semihosting (QEMU `target=native`).
+pub struct SemihostingFile {
+    handle: usize,
+}
+
+impl SemihostingFile {
+    /// Opens the file named by the `index`-th word of the semihosting command line
+    /// (`-semihosting-config enable=on,target=native,arg=edge,arg=PATH`); `None` if there is
+    /// no such argument or the host cannot open it.
+    pub fn from_cmdline(index: usize) -> Option<Self> {
+        let mut line = [0u8; 256];
+        let block = [line.as_mut_ptr() as usize, line.len() - 1];
+        // SAFETY: SYS_GET_CMDLINE writes at most `block[1]` bytes into `line`.
+        let r =
+            unsafe { cortex_m_semihosting::syscall(cortex_m_semihosting::nr::GET_CMDLINE, &block) };
+        if r != 0 {
+            return None;
+        }
+        let end = line.iter().position(|&b| b == 0).unwrap_or(line.len() - 1);
+        let text = line.get(..end)?;
+        let path = text
+            .split(|&b| b == b' ')
+            .filter(|w| !w.is_empty())
+            .nth(index)?;
+        let mut name = [0u8; 256];
+        name.get_mut(..path.len())?.copy_from_slice(path);
+        // SYS_OPEN mode 1 = "rb"; the name is NUL-terminated and its length excludes the NUL.
+        let args = [name.as_ptr() as usize, 1, path.len()];
+        // SAFETY: the name buffer outlives the call.
+        let handle =
+            unsafe { cortex_m_semihosting::syscall(cortex_m_semihosting::nr::OPEN, &args) };
+        (handle != usize::MAX).then_some(Self { handle })
+    }
+}
+
+impl crate::capture::CaptureSource for SemihostingFile {
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), crate::capture::CaptureError> {
+        let args = [self.handle, buf.as_mut_ptr() as usize, buf.len()];
+        // SAFETY: SYS_READ writes at most `buf.len()` bytes into `buf`; returns the bytes not read.
+        let left = unsafe { cortex_m_semihosting::syscall(cortex_m_semihosting::nr::READ, &args) };
+        if left == 0 {
+            Ok(())
+        } else {
+            Err(crate::capture::CaptureError::Ended)
+        }
+    }
+}
+
+/// Stack high-water mark by painting: the free stack is filled with a pattern at boot, and the
+/// deepest word no longer holding it shows how far the stack grew.
+pub struct StackGauge {
+    top: usize,
+    bottom: usize,
+}
+
+const PAINT: u32 = 0xACE0_BA5E;
+
+unsafe extern "C" {
+    static _stack_start: u32;
+    static _stack_end: u32;
+}
+
+impl StackGauge {
+    /// Paints the stack below the current frame (call first thing in `main`).
+    pub fn paint() -> Self {
+        let top = core::ptr::addr_of!(_stack_start) as usize;
+        let bottom = core::ptr::addr_of!(_stack_end) as usize;
+        // Leave 256 bytes under the live stack pointer for this function's own frame.
+        let sp = cortex_m::register::msp::read() as usize - 256;
+        let mut at = bottom;
+        while at < sp {
+            // SAFETY: words between the end of .bss/.uninit and the stack pointer are unused.
+            unsafe { core::ptr::write_volatile(at as *mut u32, PAINT) };
+            at += 4;
+        }
+        Self { top, bottom }
+    }
+
+    /// Bytes of stack used at the deepest point so far.
+    pub fn high_water(&self) -> usize {
+        let mut at = self.bottom;
+        // SAFETY: reading words of the stack region.
+        while at < self.top && unsafe { core::ptr::read_volatile(at as *const u32) } == PAINT {
+            at += 4;
+        }
+        self.top - at
+    }
+}

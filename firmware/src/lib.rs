@@ -4,13 +4,20 @@
 //!   the module computes the same bits as x86;
 //! * [`bench_scene`]: the cascade-86, 4-object frame of the instruction budget;
 //! * [`workload`]: the inputs of those workloads and of the instruction-count benchmarks;
+//! * [`module`]: the module's loop (link → hints, capture → pipeline → results), generic over
+//!   the hardware traits of [`capture`], [`clock`] and `embedded-io`;
+//! * [`uart`]: the CMSDK UART driver of the QEMU board's link;
 //! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
-//!   panic handlers.
+//!   panic handlers, and the semihosting capture file.
 #![no_std]
 #![deny(missing_docs)]
 
 pub mod bench_scene;
 #[cfg(target_os = "none")]
 pub mod board;
+pub mod capture;
+pub mod clock;
+pub mod module;
 pub mod selftest;
+pub mod uart;
 pub mod workload;

@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod bundle;
 pub mod capture;
+pub mod edge;
 pub mod error;
 pub mod eval;
 pub mod fields;

@@ -56,7 +56,7 @@ enum Command {
     },
     /// Estimate each object of interest's depth in every frame of a scene bundle (cli.md).
     #[command(
-        after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json"
+        after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json"
     )]
     Process {
         /// The bundle folder.
@@ -67,6 +67,14 @@ enum Command {
         /// I/Q order of radar.bin.
         #[arg(long, value_enum, default_value = "iiqq")]
         iq_order: IqArg,
+        /// Where the module's share of `--mode metamoran` runs: in this process, or the firmware
+        /// under QEMU over the authenticated telemetry link (same JSON).
+        #[arg(long, value_enum, default_value = "in-process")]
+        edge: host_tools::process::EdgeKind,
+        /// Link key for `--edge qemu`: 64 hex digits (default: the development key the firmware
+        /// is built with unless METAMORAN_LINK_KEY was set at its build).
+        #[arg(long, env = "METAMORAN_LINK_KEY", hide_env_values = true)]
+        link_key: Option<String>,
         /// Print the JSON document (cli.md) instead of a table.
         #[arg(long)]
         json: bool,
@@ -210,14 +218,24 @@ fn run(cli: Cli) -> Result<(), String> {
             bundle,
             mode,
             iq_order,
+            edge,
+            link_key,
             json,
         } => {
-            let out = host_tools::process::process(
+            let key = match link_key {
+                Some(hex) => {
+                    dsp::wire::Key::from_hex(&hex).map_err(|e| format!("--link-key: {e}"))?
+                }
+                None => dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+            };
+            let out = host_tools::process::process_on(
                 &bundle,
                 mode,
                 OpenOptions {
                     iq_order: iq_order.into(),
                 },
+                edge,
+                key,
             )?;
             if json {
                 println!(

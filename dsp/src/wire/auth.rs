@@ -15,6 +15,10 @@ pub const TAG_LEN: usize = 8;
 /// Bytes of a pre-shared key.
 pub const KEY_LEN: usize = 32;
 
+/// The development key of QEMU runs and tests (`"metamoran development link key!!"`). Deployed
+/// modules are built with their own key (`METAMORAN_LINK_KEY`, 64 hex digits).
+pub const DEV_KEY: [u8; KEY_LEN] = *b"metamoran development link key!!";
+
 /// A pre-shared link key, with its HMAC states precomputed. `Debug` never prints the key.
 #[derive(Clone)]
 pub struct Key {

@@ -16,7 +16,7 @@ pub mod message;
 pub mod queue;
 pub mod receiver;
 
-pub use auth::{KEY_LEN, Key, KeyError, TAG_LEN};
+pub use auth::{DEV_KEY, KEY_LEN, Key, KeyError, TAG_LEN};
 pub use frame::{EncodeError, MAX_WIRE, Sender, Stream};
 pub use message::{Downlink, Fault, FrameSummary, Health, Hint, LinkStats, ObjectResult, Uplink};
 pub use queue::DropOldest;

@@ -36,6 +36,11 @@ impl<T, const N: usize> DropOldest<T, N> {
         }
     }
 
+    /// The oldest entry, left in place. O(1).
+    pub fn front(&self) -> Option<&T> {
+        self.items.front()
+    }
+
     /// Removes the oldest entry. O(1).
     pub fn pop(&mut self) -> Option<T> {
         self.items.pop_front()

@@ -10,11 +10,12 @@ use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
 use dsp::config::RadarConfig;
 use dsp::fft::C32;
 use dsp::fixed::CQ15;
-use dsp::pipeline::{DETECTION_RATIO, Edge, ObjectHint, ObjectReport, Scene, UNIQUENESS_RATIO};
+use dsp::pipeline::{Edge, ObjectHint, ObjectReport, Scene};
 use dsp::range::{Spectra, StaticSum};
 use dsp::search::Contour;
 use dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
 use dsp::window::{WindowKind, coefficient_f64};
+use dsp::wire::{Hint, ObjectResult as WireResult};
 
 /// Width of the azimuth bins that build the contour and reject edge outliers, rad.
 const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
@@ -357,22 +358,41 @@ fn reject_edges(points: Vec<Point>) -> Vec<Point> {
         .collect()
 }
 
-/// The module's hint for `obj`: id, class, sin-azimuth span, monocular prior and contour (a flat
-/// one across the span where the mask has no usable depth, e.g. beyond the 256 m a depth PNG
-/// holds).
+/// Class code of the telemetry protocol: 1 + the index in the objects of interest, then 64 +
+/// the index in the clutter classes; 0 for anything else.
+pub fn class_code(class: &str) -> u8 {
+    use crate::bundle::{CLUTTER_CLASSES, OBJECTS_OF_INTEREST};
+    if let Some(i) = OBJECTS_OF_INTEREST.iter().position(|c| *c == class) {
+        1 + i as u8
+    } else if let Some(i) = CLUTTER_CLASSES.iter().position(|c| *c == class) {
+        64 + i as u8
+    } else {
+        0
+    }
+}
+
+/// The module's hint for `obj` as it arrives over the link ([`Hint::to_object`] of its wire
+/// form): id, class, sin-azimuth span, monocular prior and contour (a flat one across the span
+/// where the mask has no usable depth, e.g. beyond the 256 m a depth PNG holds).
 pub fn hint(obj: &CameraObject) -> Option<ObjectHint> {
+    wire_hint(0, obj).map(|h| h.to_object())
+}
+
+/// The wire form of `obj`'s hint for frame `frame`.
+pub fn wire_hint(frame: u32, obj: &CameraObject) -> Option<Hint> {
     let (lo, hi) = obj.span?;
     let mut c = contour(obj);
     if c.is_empty() {
         c = Contour::new((0..9).map(|i| ((lo + (hi - lo) * i as f64 / 8.0).sin() as f32, 0.0f32)));
     }
-    Some(ObjectHint {
+    let exact = ObjectHint {
         id: obj.instance,
-        class: 0,
+        class: class_code(&obj.class),
         span: (lo.sin() as f32, hi.sin() as f32),
         prior_m: obj.closest_range().unwrap_or(0.0) as f32,
         contour: c,
-    })
+    };
+    Some(Hint::from_object(frame, &exact))
 }
 
 /// An object's search problem after clutter cancellation: what both searches run on.
@@ -424,26 +444,48 @@ pub fn both_searches(
     Ok((fast, reference))
 }
 
-/// The Metamoran estimate for one object of a frame: the static search after clutter
-/// cancellation and, where the frame has Doppler, the search on the Doppler bin holding most of
-/// the energy at the object's azimuth; the more confident of the two wins.
+/// The Metamoran estimate for one object of frame `frame`: the module's static search after
+/// clutter cancellation, in process (see [`merge`]).
 pub fn estimate(
     scene: &mut StaticScene,
     moving: Option<&MovingScene>,
     obj: &CameraObject,
+    frame: u32,
 ) -> ObjectResult {
     let Some(p) = prepare(scene, obj) else {
         return ObjectResult::missed(obj);
     };
-    let mut best = fast_search(scene, &p).ok();
-    if let Some(found) = moving.and_then(|mv| mv.search(&p.hint)) {
-        if best.is_none_or(|b| found.floor_ratio() > b.floor_ratio()) {
+    let on_module = fast_search(scene, &p)
+        .ok()
+        .map(|r| WireResult::from_report(frame, &p.hint, &r));
+    merge(obj, on_module, moving, frame)
+}
+
+/// Combines the module's answer for `obj` (in process or from the edge) with the host's search
+/// on the Doppler bin holding most of the energy at the object's azimuth, where the frame has
+/// Doppler: the more confident of the two wins (confidence as the module reports it, so both
+/// edges give the same bits).
+pub fn merge(
+    obj: &CameraObject,
+    on_module: Option<WireResult>,
+    moving: Option<&MovingScene>,
+    frame: u32,
+) -> ObjectResult {
+    let Some(hint) = hint(obj) else {
+        return ObjectResult::missed(obj);
+    };
+    let mut best = on_module;
+    if let Some(found) = moving
+        .and_then(|mv| mv.search(&hint))
+        .map(|r| WireResult::from_report(frame, &hint, &r))
+    {
+        if best.is_none_or(|b| found.confidence > b.confidence) {
             best = Some(found);
         }
     }
     match best {
-        Some(r) if r.floor_ratio() >= DETECTION_RATIO && r.uniqueness() >= UNIQUENESS_RATIO => {
-            let depth = r.search.depth_m as f64;
+        Some(r) if r.detected() => {
+            let depth = r.depth_m();
             let points = reject_edges(shift_to_depth(&obj.points, depth));
             ObjectResult::found(obj, depth, obj.median_azimuth(), points)
         }

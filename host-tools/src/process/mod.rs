@@ -15,6 +15,7 @@ use crate::geometry::{CameraModel, Point};
 use camera_points::{CameraObject, objects_of_interest};
 use clap::ValueEnum;
 use dsp::window::WindowKind;
+use dsp::wire::{DEV_KEY, Key};
 use serde::Serialize;
 use std::path::Path;
 
@@ -103,12 +104,48 @@ pub struct ProcessOutput {
     pub frames: Vec<FrameResult>,
 }
 
-/// Processes every frame of the bundle in `dir` with `mode`.
+/// Where the module's share of `--mode metamoran` runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum EdgeKind {
+    /// The `dsp` pipeline called in this process.
+    #[default]
+    InProcess,
+    /// The firmware under QEMU, over the telemetry link ([`crate::edge`]).
+    Qemu,
+}
+
+/// Processes every frame of the bundle in `dir` with `mode`, the module's work in process.
 ///
 /// # Errors
 /// A message naming the file and field of a bad bundle, or why the mode cannot run.
 pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOutput, String> {
+    process_on(dir, mode, options, EdgeKind::InProcess, Key::new(&DEV_KEY))
+}
+
+/// Processes every frame of the bundle in `dir` with `mode`, the module's work on `edge`
+/// (link key `key` for QEMU). Both edges give the same JSON.
+///
+/// # Errors
+/// A message naming the file and field of a bad bundle, or why the mode or edge cannot run.
+pub fn process_on(
+    dir: &Path,
+    mode: Mode,
+    options: OpenOptions,
+    edge: EdgeKind,
+    key: Key,
+) -> Result<ProcessOutput, String> {
     let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
+    let mut module = match (mode, edge) {
+        (Mode::Metamoran, EdgeKind::Qemu) => {
+            if options.iq_order != dsp::capture::IqOrder::Iiqq {
+                return Err("--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process".into());
+            }
+            let mut q = crate::edge::QemuEdge::start(&bundle.scene.adc_file, key)?;
+            q.configure(&bundle.scene.radar)?;
+            Some(q)
+        }
+        _ => None,
+    };
     let camera = CameraModel::new(&bundle.scene.camera);
     let frame_options = FrameOptions {
         range_window: WindowKind::Hann,
@@ -127,12 +164,31 @@ pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOu
                 bundle
                     .read_radar_frame(f, &mut samples)
                     .map_err(|e| e.to_string())?;
-                let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
                 let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
-                objects
-                    .iter()
-                    .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
-                    .collect()
+                if let Some(q) = module.as_mut() {
+                    let hints: Vec<_> = objects
+                        .iter()
+                        .filter_map(|o| metamoran::wire_hint(f, o).map(|h| (o.instance, h)))
+                        .collect();
+                    let wire: Vec<_> = hints.iter().map(|(_, h)| h.clone()).collect();
+                    let results = q.frame(f, &wire)?;
+                    objects
+                        .iter()
+                        .map(|o| {
+                            let r = hints
+                                .iter()
+                                .position(|(id, _)| *id == o.instance)
+                                .and_then(|i| results[i]);
+                            metamoran::merge(o, r, moving.as_ref(), f)
+                        })
+                        .collect()
+                } else {
+                    let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
+                    objects
+                        .iter()
+                        .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o, f))
+                        .collect()
+                }
             }
             Mode::Naive => {
                 bundle
@@ -150,6 +206,13 @@ pub fn process(dir: &Path, mode: Mode, options: OpenOptions) -> Result<ProcessOu
             frame: f,
             objects: results,
         });
+    }
+    if let Some(q) = module {
+        let log = q.stop()?;
+        let h = log.health;
+        if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
+            eprintln!("warning: the module counted errors: {h:?}");
+        }
     }
     Ok(ProcessOutput { mode, frames })
 }

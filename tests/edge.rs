@@ -1,0 +1,110 @@
+//! `process --edge qemu`: the firmware under QEMU, fed over the authenticated telemetry link,
+//! must give exactly the JSON of the in-process pipeline, frame after frame.
+
+use dsp::wire::{DEV_KEY, Key};
+use host_tools::bundle::OpenOptions;
+use host_tools::process::{EdgeKind, Mode, process_on};
+use host_tools::sim::radar::RadarKind;
+use host_tools::sim::{layout::Preset, simulate};
+use metamoran_e2e::oracles_required;
+use std::path::Path;
+
+fn qemu_available() -> bool {
+    std::process::Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+fn json(dir: &Path, edge: EdgeKind, key: Key) -> Result<String, String> {
+    let out = process_on(dir, Mode::Metamoran, OpenOptions::default(), edge, key)?;
+    Ok(serde_json::to_string(&out).unwrap())
+}
+
+/// Turns a one-frame bundle into a `frames`-frame one by repeating its frame (the truth file,
+/// which is optional, is dropped).
+fn repeat_frames(dir: &Path, frames: u32) {
+    let scene = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+    let lines: Vec<String> = scene
+        .lines()
+        .map(|l| match l.split_once('=') {
+            Some((k, _)) if k.trim() == "frames" => format!("frames = {frames}"),
+            _ => l.to_owned(),
+        })
+        .collect();
+    assert!(lines.iter().any(|l| l == &format!("frames = {frames}")));
+    let scene = lines.join("\n");
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    let radar = std::fs::read(dir.join("radar.bin")).unwrap();
+    std::fs::write(dir.join("radar.bin"), radar.repeat(frames as usize)).unwrap();
+    for entry in std::fs::read_dir(dir.join("camera")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_str().unwrap().to_owned();
+        if let Some(rest) = name.strip_prefix("000000") {
+            for f in 1..frames {
+                std::fs::copy(&path, path.with_file_name(format!("{f:06}{rest}"))).unwrap();
+            }
+        }
+    }
+    let _ = std::fs::remove_file(dir.join("truth.json"));
+}
+
+#[test]
+fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        eprintln!("SKIPPED: qemu-system-arm not installed");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    simulate(
+        Preset::ParkingLot,
+        RadarKind::Cascade,
+        71,
+        2,
+        tmp.path(),
+        false,
+    )
+    .unwrap();
+    simulate(Preset::Moving, RadarKind::Xwr18xx, 72, 1, tmp.path(), false).unwrap();
+    let mut bundles: Vec<_> = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    bundles.sort();
+    repeat_frames(&bundles[0], 3);
+    let mut detected = 0;
+    for b in &bundles {
+        let here = json(b, EdgeKind::InProcess, Key::new(&DEV_KEY)).unwrap();
+        let module = json(b, EdgeKind::Qemu, Key::new(&DEV_KEY)).unwrap();
+        assert_eq!(module, here, "{}", b.display());
+        detected += here.matches("\"detected\":true").count();
+    }
+    assert!(detected >= 3, "too few detections to compare: {detected}");
+}
+
+#[test]
+fn qemu_edge_refuses_a_wrong_link_key() {
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    simulate(
+        Preset::LongRange,
+        RadarKind::Xwr18xx,
+        73,
+        1,
+        tmp.path(),
+        false,
+    )
+    .unwrap();
+    let b = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let err = json(&b, EdgeKind::Qemu, Key::new(&[0x42; 32])).unwrap_err();
+    assert!(err.contains("--link-key"), "{err}");
+}
