@@ -5,7 +5,7 @@ use dsp::config::RadarConfig;
 use dsp::pipeline::ObjectHint;
 use dsp::search::Contour;
 use dsp::wire::frame::MAX_PAYLOAD;
-use dsp::wire::message::{Clutter, MAX_CLUTTER};
+use dsp::wire::message::{Clutter, MAX_CLUTTER, MAX_OBJECTS};
 use dsp::wire::{
     Deframer, Downlink, FrameSummary, Health, Hint, Key, LinkError, LinkStats, MAX_WIRE,
     ObjectResult, Receiver, Sender, Stream, Uplink,
@@ -65,14 +65,22 @@ fn cascade() -> RadarConfig {
 }
 
 fn result(frame: u32, instance: u16) -> Uplink {
-    Uplink::Result(ObjectResult {
-        frame,
+    let r = ObjectResult {
         instance,
         class: 3,
         depth_mm: 41_250,
         sin_az: -12_000,
         confidence: 77,
-    })
+    };
+    Uplink::Results {
+        summary: FrameSummary {
+            frame,
+            objects: 1,
+            detected: 1,
+            ..Default::default()
+        },
+        objects: heapless::Vec::from_slice(&[r]).unwrap(),
+    }
 }
 
 fn full_hint() -> Hint {
@@ -96,14 +104,10 @@ fn messages_round_trip_and_frames_have_no_zero_inside() {
             arena_words: 90_000,
         },
         result(1, 2),
-        Uplink::Summary(FrameSummary {
-            frame: 1,
-            objects: 4,
-            detected: 3,
-            peaks: 64,
-            exponent: -3,
-            busy_us: 90_000,
-        }),
+        Uplink::Fault {
+            frame: 3,
+            fault: dsp::wire::Fault::Capture,
+        },
         Uplink::Health(Health {
             frames: 9,
             link: LinkStats {
@@ -129,7 +133,7 @@ fn messages_round_trip_and_frames_have_no_zero_inside() {
         .map(Result::unwrap)
         .collect();
     assert_eq!(got, msgs);
-    assert_eq!(rx.stats().accepted, 4);
+    assert_eq!(rx.stats().accepted, msgs.len() as u32);
     assert_eq!(rx.stats().lost, 0);
 }
 
@@ -161,27 +165,36 @@ fn the_largest_downlink_messages_fit_a_frame() {
 }
 
 #[test]
-fn a_result_takes_at_most_16_bytes() {
+fn a_result_takes_at_most_16_bytes_on_the_wire() {
     // Worst case the docs promise: ids and classes at their maximum, depth just below 2 km,
-    // frame number just below 2^21, azimuth at its most negative.
+    // azimuth at its most negative.
     let r = ObjectResult {
-        frame: (1 << 21) - 1,
         instance: u16::MAX,
         class: u8::MAX,
         depth_mm: 2_097_151,
         sin_az: -32767,
         confidence: 255,
     };
-    let bytes = postcard::to_allocvec(&r).unwrap();
-    assert!(bytes.len() <= 16, "{} bytes", bytes.len());
-    // The framed message adds the enum tag, header, tag and COBS: a fixed overhead.
-    let (mut tx, _) = link(Stream::Uplink);
-    let framed = encode(&mut tx, &Uplink::Result(r));
-    assert!(
-        framed.len() <= bytes.len() + 1 + 6 + 8 + 2,
-        "{}",
-        framed.len()
-    );
+    let alone = postcard::to_allocvec(&r).unwrap();
+    assert!(alone.len() <= 11, "{} bytes", alone.len());
+    // Marginal wire bytes of each object in a frame's results (COBS adds at most one byte
+    // per 254).
+    let frame_of = |n: usize| {
+        let (mut tx, _) = link(Stream::Uplink);
+        let msg = Uplink::Results {
+            summary: FrameSummary {
+                frame: 1 << 20,
+                objects: n as u8,
+                ..Default::default()
+            },
+            objects: (0..n).map(|_| r).collect(),
+        };
+        encode(&mut tx, &msg).len()
+    };
+    let (empty, full) = (frame_of(0), frame_of(MAX_OBJECTS));
+    let per_object = (full - empty) as f64 / MAX_OBJECTS as f64;
+    assert!(per_object <= 16.0, "{per_object} bytes per object");
+    assert!(full <= MAX_WIRE);
 }
 
 #[test]
@@ -414,7 +427,10 @@ fn fuzz_both_decoders_a_million_frames() {
         &[
             result(7, 1),
             Uplink::Health(Health::default()),
-            Uplink::Summary(FrameSummary::default()),
+            Uplink::Hello {
+                firmware: 1,
+                arena_words: 2,
+            },
         ],
         n,
     );

@@ -292,12 +292,18 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             exponent: scene.spectra.exponent().clamp(-128, 127) as i8,
             busy_us: 0,
         };
+        let mut objects = Vec::new();
         for hint in &self.hints {
-            match edge.object(&mut scene, hint, &mut s.scores[..m]) {
+            match edge.object(
+                &mut scene,
+                hint,
+                &mut s.scores.get_mut(..m).unwrap_or(&mut []),
+            ) {
                 Ok(report) => {
-                    let r = ObjectResult::from_report(frame, hint, &report);
+                    let r = ObjectResult::from_report(hint, &report);
                     summary.detected += r.detected() as u8;
-                    self.queue.push(Uplink::Result(r));
+                    // Cannot overflow: at most MAX_OBJECTS hints.
+                    let _ = objects.push(r);
                 }
                 Err(_) => {
                     self.health.pipeline_errors += 1;
@@ -310,7 +316,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         }
         self.health.frames += 1;
         summary.busy_us = self.clock.micros().wrapping_sub(start);
-        self.queue.push(Uplink::Summary(summary));
+        self.queue.push(Uplink::Results { summary, objects });
     }
 
     fn fault(&mut self, frame: u32, fault: Fault) {
@@ -527,32 +533,29 @@ mod tests {
         );
         let mut scene = edge.finish(sum, &mut row, &mut az, &mut pw).unwrap();
         let mut scores = vec![0.0f32; 512];
-        let expected: StdVec<Uplink> = hints
+        let expected: StdVec<ObjectResult> = hints
             .iter()
             .map(|h| {
                 let h = Hint::from_object(0, h).to_object();
                 let r = edge.object(&mut scene, &h, &mut scores).unwrap();
-                Uplink::Result(ObjectResult::from_report(0, &h, &r))
+                ObjectResult::from_report(&h, &r)
             })
             .collect();
-        assert_eq!(&up[1..5], &expected[..]);
-        for (i, u) in up[1..5].iter().enumerate() {
-            let Uplink::Result(r) = u else { unreachable!() };
+        let Uplink::Results { summary, objects } = &up[1] else {
+            panic!("expected results, got {:?}", up[1]);
+        };
+        assert_eq!(&objects[..], &expected[..]);
+        for (i, r) in objects.iter().enumerate() {
             assert!(r.detected(), "object {i}");
             assert!(
                 (r.depth_m() as f32 - bench_scene::truth_m(i)).abs() < 0.05,
                 "{r:?}"
             );
         }
-        assert!(matches!(
-            up[5],
-            Uplink::Summary(FrameSummary {
-                frame: 0,
-                objects: 4,
-                detected: 4,
-                ..
-            })
-        ));
+        assert_eq!(
+            (summary.frame, summary.objects, summary.detected),
+            (0, 4, 4)
+        );
         assert_eq!(m.health().frames, 1);
     }
 

@@ -137,15 +137,14 @@ impl QemuEdge {
             objects: hints.len().min(255) as u8,
             clutter: heapless::Vec::new(),
         })?;
-        let mut out = vec![None; hints.len()];
         loop {
             match self.receive()? {
-                Uplink::Result(r) if r.frame == frame => {
-                    if let Some(i) = hints.iter().position(|h| h.instance == r.instance) {
-                        out[i] = Some(r);
-                    }
+                Uplink::Results { summary, objects } if summary.frame == frame => {
+                    return Ok(hints
+                        .iter()
+                        .map(|h| objects.iter().find(|r| r.instance == h.instance).copied())
+                        .collect());
                 }
-                Uplink::Summary(s) if s.frame == frame => return Ok(out),
                 Uplink::Fault { frame: f, fault } => {
                     self.faults.push((f, fault));
                     if matches!(fault, Fault::Capture | Fault::NoConfig | Fault::Config)

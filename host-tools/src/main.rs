@@ -152,6 +152,14 @@ enum BenchCommand {
         #[arg(long)]
         json: bool,
     },
+    /// The module's budgets on the release firmware: flash, RAM, stack, instructions per
+    /// cascade-86 frame with 4 objects under QEMU -icount, telemetry bytes.
+    #[command(after_help = "Example:\n  metamoran bench m7 --json")]
+    M7 {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// FFT instruction counts on the Cortex-M7 under QEMU (-icount), vs CMSIS-DSP's published counts.
     #[command(
         name = "fft-m7",
@@ -313,6 +321,9 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             print(&host_tools::bench::fft::run(&sizes, true), json)
         }
+        Command::Bench {
+            what: BenchCommand::M7 { json },
+        } => print(&host_tools::bench::budget::run()?, json),
         Command::Bench {
             what: BenchCommand::FftM7 { json },
         } => print(&host_tools::bench::m7::run()?, json),

@@ -129,12 +129,10 @@ pub enum Downlink {
     Stop,
 }
 
-/// Uplink: the module's answer for one object, at most 16 bytes on the wire for depths below
-/// 2 km and frame numbers below 2²¹.
+/// Uplink: the module's answer for one object, inside its frame's [`Uplink::Results`] (which
+/// carries the frame number once): at most 11 bytes on the wire for depths below 2 km.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ObjectResult {
-    /// Frame number.
-    pub frame: u32,
     /// Instance id.
     pub instance: u16,
     /// Class code.
@@ -149,8 +147,8 @@ pub struct ObjectResult {
 }
 
 impl ObjectResult {
-    /// The wire form of the pipeline's `report` for `hint` in frame `frame`.
-    pub fn from_report(frame: u32, hint: &ObjectHint, report: &ObjectReport) -> Self {
+    /// The wire form of the pipeline's `report` for `hint`.
+    pub fn from_report(hint: &ObjectHint, report: &ObjectReport) -> Self {
         let closest = hint
             .contour
             .points()
@@ -164,7 +162,6 @@ impl ObjectResult {
             0
         };
         Self {
-            frame,
             instance: report.id,
             class: report.class,
             depth_mm: m_to_mm(report.search.depth_m),
@@ -266,10 +263,13 @@ pub enum Uplink {
         /// Arena words available for a frame.
         arena_words: u32,
     },
-    /// The answer for one object.
-    Result(ObjectResult),
-    /// A frame is done.
-    Summary(FrameSummary),
+    /// A frame is done: its bookkeeping and the answer for each object, in hint order.
+    Results {
+        /// Frame number, counts, timing.
+        summary: FrameSummary,
+        /// One per hint searched.
+        objects: Vec<ObjectResult, MAX_OBJECTS>,
+    },
     /// Health counters.
     Health(Health),
     /// Something failed (counted in [`Health`] too).

@@ -21,6 +21,7 @@ mod app {
 
     #[entry]
     fn main() -> ! {
+        let stack = firmware::board::StackGauge::paint();
         let timer = Timer0::start();
         let overhead = timer.ticks(|| ());
         let count = |t: u32| t.saturating_sub(overhead) * INSTRUCTIONS_PER_TICK;
@@ -88,6 +89,7 @@ mod app {
             }
         }
         hprintln!("ICOUNT stage=frame instructions={}", total);
+        hprintln!("STACK stack_bytes={}", stack.high_water());
         firmware::board::exit(true)
     }
 }

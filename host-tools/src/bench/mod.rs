@@ -1,5 +1,6 @@
 //! Benchmarks reported by `metamoran bench`: figures measured in one run against named baselines.
 
+pub mod budget;
 pub mod fft;
 pub mod m7;
 pub mod search;

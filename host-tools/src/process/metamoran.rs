@@ -444,21 +444,20 @@ pub fn both_searches(
     Ok((fast, reference))
 }
 
-/// The Metamoran estimate for one object of frame `frame`: the module's static search after
+/// The Metamoran estimate for one object of a frame: the module's static search after
 /// clutter cancellation, in process (see [`merge`]).
 pub fn estimate(
     scene: &mut StaticScene,
     moving: Option<&MovingScene>,
     obj: &CameraObject,
-    frame: u32,
 ) -> ObjectResult {
     let Some(p) = prepare(scene, obj) else {
         return ObjectResult::missed(obj);
     };
     let on_module = fast_search(scene, &p)
         .ok()
-        .map(|r| WireResult::from_report(frame, &p.hint, &r));
-    merge(obj, on_module, moving, frame)
+        .map(|r| WireResult::from_report(&p.hint, &r));
+    merge(obj, on_module, moving)
 }
 
 /// Combines the module's answer for `obj` (in process or from the edge) with the host's search
@@ -469,7 +468,6 @@ pub fn merge(
     obj: &CameraObject,
     on_module: Option<WireResult>,
     moving: Option<&MovingScene>,
-    frame: u32,
 ) -> ObjectResult {
     let Some(hint) = hint(obj) else {
         return ObjectResult::missed(obj);
@@ -477,7 +475,7 @@ pub fn merge(
     let mut best = on_module;
     if let Some(found) = moving
         .and_then(|mv| mv.search(&hint))
-        .map(|r| WireResult::from_report(frame, &hint, &r))
+        .map(|r| WireResult::from_report(&hint, &r))
     {
         if best.is_none_or(|b| found.confidence > b.confidence) {
             best = Some(found);

@@ -134,6 +134,20 @@ pub fn process_on(
     edge: EdgeKind,
     key: Key,
 ) -> Result<ProcessOutput, String> {
+    process_logged(dir, mode, options, edge, key).map(|(out, _)| out)
+}
+
+/// [`process_on`], also returning what the QEMU module reported when it stopped.
+///
+/// # Errors
+/// As [`process_on`].
+pub fn process_logged(
+    dir: &Path,
+    mode: Mode,
+    options: OpenOptions,
+    edge: EdgeKind,
+    key: Key,
+) -> Result<(ProcessOutput, Option<crate::edge::EdgeLog>), String> {
     let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
     let mut module = match (mode, edge) {
         (Mode::Metamoran, EdgeKind::Qemu) => {
@@ -179,14 +193,14 @@ pub fn process_on(
                                 .iter()
                                 .position(|(id, _)| *id == o.instance)
                                 .and_then(|i| results[i]);
-                            metamoran::merge(o, r, moving.as_ref(), f)
+                            metamoran::merge(o, r, moving.as_ref())
                         })
                         .collect()
                 } else {
                     let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
                     objects
                         .iter()
-                        .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o, f))
+                        .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
                         .collect()
                 }
             }
@@ -207,12 +221,16 @@ pub fn process_on(
             objects: results,
         });
     }
-    if let Some(q) = module {
-        let log = q.stop()?;
-        let h = log.health;
-        if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
-            eprintln!("warning: the module counted errors: {h:?}");
+    let log = match module {
+        Some(q) => {
+            let log = q.stop()?;
+            let h = log.health;
+            if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
+                eprintln!("warning: the module counted errors: {h:?}");
+            }
+            Some(log)
         }
-    }
-    Ok(ProcessOutput { mode, frames })
+        None => None,
+    };
+    Ok((ProcessOutput { mode, frames }, log))
 }
