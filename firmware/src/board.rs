@@ -54,10 +54,23 @@ pub fn exit(success: bool) -> ! {
     loop {}
 }
 
+#[cfg(not(feature = "no-panic-check"))]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
     hprintln!("PANIC: {}", info);
     exit(false)
+}
+
+/// With feature `no-panic-check` the panic handler calls a function that does not exist: the
+/// release link then fails unless the optimizer removed every path to a panic.
+#[cfg(feature = "no-panic-check")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo<'_>) -> ! {
+    unsafe extern "C" {
+        fn a_panic_path_is_linked_into_the_firmware() -> !;
+    }
+    // SAFETY: never runs: the symbol is undefined, so this only links if unreachable.
+    unsafe { a_panic_path_is_linked_into_the_firmware() }
 }
 
 /// Defines a HardFault handler that reports the fault and exits QEMU with failure (a plain
