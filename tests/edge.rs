@@ -6,15 +6,8 @@ use host_tools::bundle::OpenOptions;
 use host_tools::process::{EdgeKind, Mode, process_on};
 use host_tools::sim::radar::RadarKind;
 use host_tools::sim::{layout::Preset, simulate};
-use metamoran_e2e::oracles_required;
+use metamoran_e2e::{oracles_required, qemu_available};
 use std::path::Path;
-
-fn qemu_available() -> bool {
-    std::process::Command::new("qemu-system-arm")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
 
 fn json(dir: &Path, edge: EdgeKind, key: Key) -> Result<String, String> {
     let out = process_on(dir, Mode::Metamoran, OpenOptions::default(), edge, key)?;

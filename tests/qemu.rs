@@ -2,15 +2,8 @@
 //! compute exactly the bits the host computes with the same `dsp` code.
 
 use host_tools::qemu;
-use metamoran_e2e::oracles_required;
+use metamoran_e2e::{oracles_required, qemu_available};
 use std::time::Duration;
-
-fn qemu_available() -> bool {
-    std::process::Command::new("qemu-system-arm")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
 
 #[test]
 fn firmware_self_test_matches_host_bit_for_bit() {

@@ -27,3 +27,11 @@ pub fn top_k(x: &[f32], k: usize) -> Vec<usize> {
     idx.truncate(k);
     idx
 }
+
+/// Whether `qemu-system-arm` runs on this machine.
+pub fn qemu_available() -> bool {
+    std::process::Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}

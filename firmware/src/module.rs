@@ -190,9 +190,11 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             }
             Downlink::Hint(h) => self.hint(&h),
             Downlink::Frame { frame, objects, .. } => {
-                if self.hints_frame != frame && !self.hints.is_empty()
-                    || self.hints.len() != objects as usize
-                {
+                if self.hints_frame != frame {
+                    // Hints of another frame do not describe this one.
+                    self.hints.clear();
+                }
+                if self.hints.len() != objects as usize {
                     self.health.protocol_errors += 1;
                     self.fault(frame, Fault::Hints);
                 }
