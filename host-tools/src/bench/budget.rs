@@ -108,6 +108,8 @@ pub fn run() -> Result<Budget, String> {
         if let Some(s) = field(line, "stack_bytes=") {
             stack = stack.max(s.parse().map_err(|_| format!("bad line: {line}"))?);
         }
+        // Depths from the module; azimuth and confidence take typical values (3-byte and 1-byte
+        // varints), as the benchmark firmware does not report them.
         if line.starts_with("PIPELINE ") {
             let depth: u32 = field(line, "depth_mm=")
                 .and_then(|d| d.parse().ok())

@@ -457,25 +457,24 @@ pub fn estimate(
     let on_module = fast_search(scene, &p)
         .ok()
         .map(|r| WireResult::from_report(&p.hint, &r));
-    merge(obj, on_module, moving)
+    merge(obj, &p.hint, on_module, moving)
 }
 
-/// Combines the module's answer for `obj` (in process or from the edge) with the host's search
+/// Combines the module's answer for `obj` (in process or from the edge; `hint` as the module
+/// received it) with the host's search
 /// on the Doppler bin holding most of the energy at the object's azimuth, where the frame has
 /// Doppler: the more confident of the two wins (confidence as the module reports it, so both
 /// edges give the same bits).
 pub fn merge(
     obj: &CameraObject,
+    hint: &ObjectHint,
     on_module: Option<WireResult>,
     moving: Option<&MovingScene>,
 ) -> ObjectResult {
-    let Some(hint) = hint(obj) else {
-        return ObjectResult::missed(obj);
-    };
     let mut best = on_module;
     if let Some(found) = moving
-        .and_then(|mv| mv.search(&hint))
-        .map(|r| WireResult::from_report(&hint, &r))
+        .and_then(|mv| mv.search(hint))
+        .map(|r| WireResult::from_report(hint, &r))
     {
         if best.is_none_or(|b| found.confidence > b.confidence) {
             best = Some(found);

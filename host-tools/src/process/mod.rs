@@ -180,20 +180,22 @@ pub fn process_logged(
                     .map_err(|e| e.to_string())?;
                 let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
                 if let Some(q) = module.as_mut() {
-                    let hints: Vec<_> = objects
-                        .iter()
-                        .filter_map(|o| metamoran::wire_hint(f, o).map(|h| (o.instance, h)))
-                        .collect();
-                    let wire: Vec<_> = hints.iter().map(|(_, h)| h.clone()).collect();
-                    let results = q.frame(f, &wire)?;
+                    let hints: Vec<_> =
+                        objects.iter().map(|o| metamoran::wire_hint(f, o)).collect();
+                    let wire: Vec<_> = hints.iter().flatten().cloned().collect();
+                    // One result (or None) per sent hint, in order.
+                    let mut results = q.frame(f, &wire)?.into_iter();
                     objects
                         .iter()
-                        .map(|o| {
-                            let r = hints
-                                .iter()
-                                .position(|(id, _)| *id == o.instance)
-                                .and_then(|i| results[i]);
-                            metamoran::merge(o, r, moving.as_ref())
+                        .zip(&hints)
+                        .map(|(o, h)| match h {
+                            Some(h) => metamoran::merge(
+                                o,
+                                &h.to_object(),
+                                results.next().flatten(),
+                                moving.as_ref(),
+                            ),
+                            None => ObjectResult::missed(o),
                         })
                         .collect()
                 } else {
