@@ -32,6 +32,19 @@ pub const fn cosine_terms(kind: WindowKind) -> [f64; 4] {
     }
 }
 
+/// [`cosine_terms`] rounded to `f32` (constants, so no soft `f64` on the M7).
+pub const fn cosine_terms_f32(kind: WindowKind) -> [f32; 4] {
+    const fn f32s(a: [f64; 4]) -> [f32; 4] {
+        [a[0] as f32, a[1] as f32, a[2] as f32, a[3] as f32]
+    }
+    match kind {
+        WindowKind::Rectangular => const { f32s(cosine_terms(WindowKind::Rectangular)) },
+        WindowKind::Hann => const { f32s(cosine_terms(WindowKind::Hann)) },
+        WindowKind::Hamming => const { f32s(cosine_terms(WindowKind::Hamming)) },
+        WindowKind::BlackmanHarris => const { f32s(cosine_terms(WindowKind::BlackmanHarris)) },
+    }
+}
+
 /// Coefficient `n` of a symmetric window of length `len` (f64), usable in constant expressions.
 pub const fn coefficient_f64(kind: WindowKind, n: usize, len: usize) -> f64 {
     if len <= 1 {

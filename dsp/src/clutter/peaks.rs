@@ -7,6 +7,7 @@
 
 use crate::fixed::CQ15;
 use crate::range::Spectra;
+use crate::range::frame_sum::unpack;
 use heapless::Vec;
 
 /// Most peaks kept per frame.
@@ -86,8 +87,10 @@ pub fn scan(
         let slot = k % 3;
         if k < last {
             fft.fill(CQ15::default());
-            for (e, &p) in positions.iter().enumerate() {
-                fft[p as usize] = spectra.get(e, k);
+            for (&p, &w) in positions.iter().zip(spectra.column(k)) {
+                if let Some(slot) = fft.get_mut(p as usize) {
+                    *slot = unpack(w);
+                }
             }
             let shift = crate::fft::cfft_q15(fft).map_or(0, |e| 2 * e.0);
             for (o, z) in rows[slot * na..(slot + 1) * na].iter_mut().zip(fft.iter()) {
@@ -112,11 +115,21 @@ fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>
         if v == 0 {
             continue;
         }
-        let (l, r) = ((j + na - 1) % na, (j + 1) % na);
-        // Strictly above what comes earlier in scan order, at least what comes later.
-        let before = [prev[l], prev[j], prev[r], cur[l]];
-        let after = [cur[r], next[l], next[j], next[r]];
-        if before.iter().all(|&b| v > b) && after.iter().all(|&a| v >= a) {
+        let (l, r) = (
+            if j == 0 { na - 1 } else { j - 1 },
+            if j + 1 == na { 0 } else { j + 1 },
+        );
+        // Strictly above what comes earlier in scan order, at least what comes later. The row's
+        // own neighbours first: they reject most cells before the other rows are read.
+        let is_peak = v > cur[l]
+            && v >= cur[r]
+            && v > prev[j]
+            && v >= next[j]
+            && v > prev[l]
+            && v > prev[r]
+            && v >= next[l]
+            && v >= next[r];
+        if is_peak {
             insert(
                 out,
                 Peak {
@@ -155,8 +168,9 @@ mod tests {
         for (bin, s, a) in [(10usize, 0.25f64, 8000.0f64), (20, -0.5, 3000.0)] {
             for e in 0..el {
                 let ph = core::f64::consts::PI * e as f64 * s;
-                let z = crate::range::frame_sum::unpack(words[e * m + bin]);
-                words[e * m + bin] = pack(CQ15::from_raw(
+                let at = Spectra::word_index(e, bin, el);
+                let z = unpack(words[at]);
+                words[at] = pack(CQ15::from_raw(
                     z.re.0 + (a * libm::cos(ph)) as i16,
                     z.im.0 + (a * libm::sin(ph)) as i16,
                 ));

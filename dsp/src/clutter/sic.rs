@@ -138,6 +138,20 @@ impl<'s, 'a> Residual<'s, 'a> {
         b
     }
 
+    /// Calls `each(k, at(k))` for bins `first..first + len` (clipped to the spectrum), each
+    /// reflector subtracted only within its tone.
+    /// The same values as [`Self::at`]. O((E + R)·len).
+    pub fn run(&self, first: usize, len: usize, mut each: impl FnMut(usize, C32)) {
+        self.steering.run(self.spectra, first, len, |k, mut b| {
+            for (r, &g) in self.reflectors.iter().zip(&self.gains) {
+                if let Some(t) = k.checked_sub(r.first).and_then(|i| r.tone.get(i)) {
+                    b -= *t * g;
+                }
+            }
+            each(k, b);
+        });
+    }
+
     /// Its power at bin `k`.
     pub fn power(&self, k: usize) -> f32 {
         self.at(k).norm_sqr()

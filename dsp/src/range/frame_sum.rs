@@ -5,10 +5,13 @@
 //! **Memory.** One caller-owned word arena of [`FrameSum::words_needed`] `u32`s holds both
 //! stages: element `e`'s sums occupy words `e·S .. e·S + 2N` (`S = max(2N, M)`, re and im as
 //! `i32`); its spectrum is written to words `e·M .. (e+1)·M` (one packed `CQ15` per word) after
-//! the sums of rows `≤ e` are consumed, so the transform never overwrites unread sums. The
-//! words after the spectra are free for the per-object search ([`FrameSum::finish`] hands them
-//! back). For the 86-element, 512-sample cascade board this is 352 KiB in all, of which the
-//! spectra take 176 KiB.
+//! the sums of rows `≤ e` are consumed, so the transform never overwrites unread sums. The rows
+//! are then copied to the upper half and interleaved back **bin-major** (word `k·E + e` holds
+//! element e's bin k): every consumer reads a whole bin across the array (beamforming, the
+//! azimuth FFT), and a contiguous column lets the M7 stream it with post-incremented loads
+//! instead of a 2 KiB stride. The words after the spectra are free for the per-object search
+//! ([`FrameSum::finish`] hands them back). For the 86-element, 512-sample cascade board this is
+//! 352 KiB in all (`2·E·M` words), of which the spectra take 176 KiB.
 
 use super::RangeError;
 use crate::array::MAX_CHANNELS;
@@ -47,14 +50,24 @@ pub struct Spectra<'a> {
 }
 
 impl<'a> FrameSum<'a> {
-    /// Arena words needed for `elements` elements of `n` samples and an `m`-point range FFT.
+    /// Arena words needed for `elements` elements of `n` samples and an `m`-point range FFT:
+    /// the sums, or the spectra and their copy while they are interleaved, whichever is more.
     pub const fn words_needed(elements: usize, n: usize, m: usize) -> usize {
-        let stride = if 2 * n > m { 2 * n } else { m };
-        elements * stride
+        let stride = Self::sum_stride(n, m);
+        if stride > 2 * m {
+            elements * stride
+        } else {
+            elements * 2 * m
+        }
+    }
+
+    /// Words between two elements' sums.
+    const fn sum_stride(n: usize, m: usize) -> usize {
+        if 2 * n > m { 2 * n } else { m }
     }
 
     fn stride(&self) -> usize {
-        Self::words_needed(1, self.n, self.m)
+        Self::sum_stride(self.n, self.m)
     }
 
     /// An empty frame over `words`.
@@ -161,15 +174,18 @@ impl<'a> FrameSum<'a> {
             // Normalize so the largest part lies in [2^14, 2^15).
             let shift = 32 - peak.leading_zeros() as i32 - 15;
             for ((o, acc), &w) in row.iter_mut().zip(sums.chunks_exact(2)).zip(window) {
+                // All in i32 (no i64 on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is
+                // `(v + 2^(s−1)) >> s` without its overflow; a left shift only lifts values
+                // below 2^15 to at most 2^15.
                 let q = |v: u32| {
-                    let v = v as i32 as i64;
+                    let v = v as i32;
                     let s = if shift > 0 {
-                        (v + (1 << (shift - 1))) >> shift
+                        ((v >> (shift - 1)) + 1) >> 1
                     } else {
                         v << -shift
                     };
-                    let s = s.clamp(i16::MIN as i64, i16::MAX as i64);
-                    Q15(((s * w.0 as i64 + (1 << 14)) >> 15) as i16)
+                    let s = s.clamp(i16::MIN as i32, i16::MAX as i32);
+                    Q15(((s * w.0 as i32 + (1 << 14)) >> 15) as i16)
                 };
                 *o = CQ15::new(q(acc[0]), q(acc[1]));
             }
@@ -181,15 +197,28 @@ impl<'a> FrameSum<'a> {
             }
         }
         let exponent = exps.iter().copied().max().unwrap_or(0);
-        for (e, &x) in exps.iter().enumerate() {
+        // Interleave bin-major through a copy of the rows in the upper half, aligning each row
+        // to the common exponent on the way: O(E·M), a few per cent of the transforms.
+        let size = self.elements * m;
+        let (spec, rest) = self.words.split_at_mut(size);
+        let Some(rows) = rest.get_mut(..size) else {
+            return Err(RangeError::Buffer {
+                what: "frame arena (u32 words)",
+                expected: 2 * size,
+                got: size + rest.len(),
+            });
+        };
+        rows.copy_from_slice(spec);
+        for (e, (row, &x)) in rows.chunks_exact(m).zip(&exps).enumerate() {
             let d = (exponent - x) as u32;
-            if d > 0 {
-                for w in &mut self.words[e * m..(e + 1) * m] {
-                    *w = pack(unpack(*w).scale_down(d));
-                }
+            for (o, &w) in spec.iter_mut().skip(e).step_by(self.elements).zip(row) {
+                *o = if d > 0 {
+                    pack(unpack(w).scale_down(d))
+                } else {
+                    w
+                };
             }
         }
-        let (spec, rest) = self.words.split_at_mut(self.elements * m);
         Ok((
             Spectra {
                 words: spec,
@@ -203,7 +232,8 @@ impl<'a> FrameSum<'a> {
 }
 
 impl<'a> Spectra<'a> {
-    /// Spectra over packed words already laid out as `elements × m` (e.g. built on the host).
+    /// Spectra over packed words already laid out bin-major (word [`Self::word_index`]`(e, k,
+    /// elements)` holds element e's bin k; e.g. built on the host).
     ///
     /// # Errors
     /// [`RangeError::Buffer`] if `words.len() != elements · m`.
@@ -243,28 +273,29 @@ impl<'a> Spectra<'a> {
         self.exponent
     }
 
+    /// The word that holds element `e`'s bin `k` in spectra of `elements` elements.
+    #[inline(always)]
+    pub const fn word_index(e: usize, k: usize, elements: usize) -> usize {
+        k * elements + e
+    }
+
     /// Bin `k` of element `e` (zero out of range).
     #[inline(always)]
     pub fn get(&self, e: usize, k: usize) -> CQ15 {
-        if k < self.m {
+        if e < self.elements {
             self.words
-                .get(e * self.m + k)
+                .get(Self::word_index(e, k, self.elements))
                 .map_or(CQ15::default(), |&w| unpack(w))
         } else {
             CQ15::default()
         }
     }
 
-    /// Bin `k` of every element, as packed words (empty beyond the spectrum).
+    /// Bin `k` of every element, as packed words (empty beyond the spectrum). Contiguous.
     #[inline]
-    pub fn column(&self, k: usize) -> impl Iterator<Item = &u32> {
-        let start = if k < self.m { k } else { self.words.len() };
-        self.words[start..].iter().step_by(self.m)
-    }
-
-    /// Element `e`'s row as packed words.
-    pub fn row(&self, e: usize) -> &[u32] {
-        self.words.get(e * self.m..(e + 1) * self.m).unwrap_or(&[])
+    pub fn column(&self, k: usize) -> &[u32] {
+        let e = self.elements;
+        self.words.get(k * e..(k + 1) * e).unwrap_or(&[])
     }
 }
 

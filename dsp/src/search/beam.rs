@@ -34,16 +34,36 @@ impl Steering {
     }
 
     /// The beam at bin `k`, in the spectra's stored units: two dual-MAC instructions per
-    /// element on the M7 (`SMLSLD`, `SMLALDX`), exact in `i64`. O(E).
+    /// element on the M7 (`SMLSLD`, `SMLALDX`) over the contiguous column, exact in `i64`. O(E).
     #[inline]
     pub fn beam(&self, spectra: &Spectra<'_>, k: usize) -> C32 {
-        let (mut re, mut im) = (0i64, 0i64);
-        for (&w, &x) in self.weights.iter().zip(spectra.column(k)) {
-            re = simd::smlsld(x, w, re);
-            im = simd::smlaldx(x, w, im);
-        }
-        C32::new(re as f32 / 32768.0, im as f32 / 32768.0)
+        let (re, im) = simd::complex_mac(spectra.column(k), &self.weights);
+        C32::new(to_f32(re) / 32768.0, to_f32(im) / 32768.0)
     }
+
+    /// Calls `each(k, beam(k))` for bins `first..first + len` (clipped to the spectrum). O(E·len).
+    #[inline]
+    pub fn run(
+        &self,
+        spectra: &Spectra<'_>,
+        first: usize,
+        len: usize,
+        mut each: impl FnMut(usize, C32),
+    ) {
+        for k in first..first.saturating_add(len).min(spectra.bins()) {
+            each(k, self.beam(spectra, k));
+        }
+    }
+}
+
+/// `x as f32` (round to nearest, ties to even) for `|x| < 2⁴⁸`, through two exact `i32 → f32`
+/// conversions and one rounding addition: hardware instructions on the M7 instead of the
+/// `__aeabi_l2f` call. Beams stay below 2⁴⁰ (E ≤ 256 products below 2³¹).
+#[inline]
+fn to_f32(x: i64) -> f32 {
+    let hi = (x >> 24) as i32 as f32 * 16_777_216.0; // exact: at most 24 significant bits
+    let lo = (x & 0xFF_FFFF) as i32 as f32; // exact: below 2²⁴
+    hi + lo
 }
 
 #[cfg(test)]
@@ -62,7 +82,10 @@ mod tests {
                 )
             })
             .collect();
-        let words: std::vec::Vec<u32> = vals.iter().map(|&z| pack(z)).collect();
+        let mut words = std::vec![0u32; vals.len()];
+        for (i, &z) in vals.iter().enumerate() {
+            words[Spectra::word_index(i / 4, i % 4, pos.len())] = pack(z);
+        }
         let spec = Spectra::from_words(&words, pos.len(), 4, 0).unwrap();
         let s = 0.31f32;
         let st = Steering::new(&pos, s);
@@ -80,6 +103,30 @@ mod tests {
                 (b.re as f64 - re).abs() < 5.0 && (b.im as f64 - im).abs() < 5.0,
                 "k={k}"
             );
+        }
+        // The run gives the single-bin beams, clipped to the spectrum.
+        for (first, len) in [(0usize, 4usize), (1, 3), (0, 3), (3, 9)] {
+            let mut seen = 0;
+            st.run(&spec, first, len, |k, z| {
+                assert_eq!(z, st.beam(&spec, k), "k={k}");
+                seen += 1;
+            });
+            assert_eq!(seen, len.min(4usize.saturating_sub(first)));
+        }
+    }
+
+    #[test]
+    fn to_f32_rounds_like_a_cast() {
+        let mut x = 1i64;
+        for i in 0..200_000i64 {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let v = (x >> (16 + i % 24)) % (1i64 << 47);
+            assert_eq!(to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+        }
+        for v in [0i64, -1, (1 << 24) + 1, -(1 << 40) - 3, (1 << 47) - 1] {
+            assert_eq!(to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
         }
     }
 }

@@ -203,16 +203,14 @@ struct Profiles<'w> {
 }
 
 impl Profiles<'_> {
-    fn get(&self, point: usize, bin: usize) -> C32 {
-        match bin.checked_sub(self.first) {
-            Some(i) if i < self.len => {
-                let at = 2 * (point * self.len + i);
-                C32::new(
-                    f32::from_bits(self.words[at]),
-                    f32::from_bits(self.words[at + 1]),
-                )
-            }
-            _ => C32::new(0.0, 0.0),
+    /// Direction `dir`'s beams from bin `bin` to the end of the run (empty outside it), as
+    /// `[re, im]` bit pairs: the hot loops walk them with one bounds check per run.
+    fn from(&self, dir: usize, bin: usize) -> core::slice::ChunksExact<'_, u32> {
+        let row = self.words.get(2 * dir * self.len..2 * (dir + 1) * self.len);
+        let start = bin.checked_sub(self.first).map(|i| 2 * i);
+        match (row, start) {
+            (Some(row), Some(i)) => row.get(i..).unwrap_or(&[]).chunks_exact(2),
+            _ => [].chunks_exact(2),
         }
     }
 
@@ -292,22 +290,19 @@ pub fn coarse_to_fine(
     let mut macs = 0u64;
     // 1. Beamform toward each distinct direction: U·E·len, integer.
     for (i, &s) in dirs.iter().enumerate() {
-        let beam = Residual::new(spectra, geo, reflectors, s);
-        for j in 0..len {
-            prof.set(i, j, beam.at(first + j));
-        }
+        Residual::new(spectra, geo, reflectors, s)
+            .run(first, len, |b, z| prof.set(i, b - first, z));
         macs += (e * len) as u64;
     }
     // 2. Coarse scores on the bin grid.
+    // Point-outer, depth-inner: each score still adds its points in contour order from 0.
     scores.fill(0.0);
-    for d in lo..=hi {
-        let mut p = 0.0;
-        for (&b, &(o, _)) in beam_of.iter().zip(&offsets).take(k) {
-            p += prof.get(b, d + o).norm_sqr();
+    for (&b, &(o, _)) in beam_of.iter().zip(&offsets).take(k) {
+        for (p, z) in scores[lo..=hi].iter_mut().zip(prof.from(b, lo + o)) {
+            *p += C32::new(f32::from_bits(z[0]), f32::from_bits(z[1])).norm_sqr();
         }
-        scores[d] = p;
-        macs += k as u64;
     }
+    macs += (k * (hi + 1 - lo)) as u64;
     // 3. Best coarse candidates (local maxima), then P on the fine grid around them.
     let mut cands = [usize::MAX; CANDIDATES];
     for d in lo..=hi {
@@ -343,7 +338,12 @@ pub fn coarse_to_fine(
                 let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
                 let width = (2 * INTERP_HALF_WIDTH + 2).min(m - b0.min(m));
                 let mut z = C32::new(0.0, 0.0);
-                interp.for_each(f, b0, width, |b, w| z += prof.get(beam, b) * w);
+                let mut beams = prof.from(beam, b0);
+                interp.for_each(f, b0, width, |_, w| {
+                    if let Some(b) = beams.next() {
+                        z += C32::new(f32::from_bits(b[0]), f32::from_bits(b[1])) * w;
+                    }
+                });
                 macs += width as u64;
                 p += z.norm_sqr();
             }

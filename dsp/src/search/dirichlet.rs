@@ -1,19 +1,20 @@
 //! The periodic sinc that interpolates a zero-padded DFT exactly.
 
-use core::f32::consts::PI;
+use crate::trig::cos_sin_pi;
 
 /// `D(x) = (1/M) Σ_{n<N} exp(j2π·x·n/M)`: the weight of bin `k` in the spectrum of N samples
 /// (zero-padded to M points) evaluated at the fractional bin `k + x`. Returns `(re, im)`.
+/// Three [`cos_sin_pi`]; O(1).
 pub fn dirichlet(x: f32, n: usize, m: usize) -> (f32, f32) {
     let (nf, mf) = (n as f32, m as f32);
-    let den = libm::sinf(PI * x / mf);
+    let den = cos_sin_pi(x / mf).1;
     let mag = if den.abs() < 1e-7 {
         nf / mf
     } else {
-        libm::sinf(PI * x * nf / mf) / (mf * den)
+        cos_sin_pi(x * nf / mf).1 / (mf * den)
     };
-    let ph = PI * x * (nf - 1.0) / mf;
-    (mag * libm::cosf(ph), mag * libm::sinf(ph))
+    let (c, s) = cos_sin_pi(x * (nf - 1.0) / mf);
+    (mag * c, mag * s)
 }
 
 #[cfg(test)]

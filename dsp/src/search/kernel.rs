@@ -8,8 +8,8 @@
 
 use super::dirichlet::dirichlet;
 use crate::fft::C32;
-use crate::trig::{Phase, expj_neg};
-use crate::window::{WindowKind, cosine_terms};
+use crate::trig::{Phase, cos_sin_pi, expj_neg};
+use crate::window::{WindowKind, cosine_terms_f32};
 
 /// Bins on each side of a reflector's range that its synthesized spectrum covers. Hann side
 /// lobes are below −75 dB this far out.
@@ -18,21 +18,21 @@ pub const SPREAD: usize = 16;
 /// `T(x) = Σₙ w[n]·exp(−j2π·x·n/M)`: the M-point spectrum of an N-sample window at offset `x`
 /// bins from the tone, for any cosine-sum window (closed form, no FFT). O(1).
 pub fn window_transform(kind: WindowKind, x: f32, n: usize, m: usize) -> C32 {
-    let a = cosine_terms(kind);
+    let a = cosine_terms_f32(kind);
     let (mf, period) = (m as f32, n.saturating_sub(1).max(1) as f32);
     // Σₙ exp(−j2π·y·n/M) = M·D(−y) with D the periodic sinc of `dirichlet`.
     let g = |y: f32| {
         let (re, im) = dirichlet(-y, n, m);
         C32::new(re * mf, im * mf)
     };
-    let mut t = g(x) * a[0] as f32;
+    let mut t = g(x) * a[0];
     for (q, &aq) in a.iter().enumerate().skip(1) {
         if aq == 0.0 {
             continue;
         }
         let sign = if q % 2 == 1 { -0.5 } else { 0.5 };
         let shift = q as f32 * mf / period;
-        t += (g(x - shift) + g(x + shift)) * (sign * aq as f32);
+        t += (g(x - shift) + g(x + shift)) * (sign * aq);
     }
     t
 }
@@ -40,7 +40,8 @@ pub fn window_transform(kind: WindowKind, x: f32, n: usize, m: usize) -> C32 {
 /// The phase step `sin θ / 2` turns as a binary angle (`exp(−jπ·p·sin θ)` is the weight of the
 /// element at `p` half-wavelengths).
 pub fn half_turns(sin_az: f32) -> u32 {
-    (sin_az as f64 * 2147483648.0) as i64 as u32
+    // Scaling by 2³¹ is exact in f32: the same value as through f64, without soft f64.
+    (sin_az * 2147483648.0) as i64 as u32
 }
 
 /// `AF(u) = Σₑ cₑ·exp(jπ·pₑ·u)` for element positions `p` and channel counts `c`. O(E).
@@ -66,34 +67,31 @@ pub struct Interpolator {
     steps: [C32; 3],
 }
 
-fn rot(a: f32) -> C32 {
-    C32::new(libm::cosf(a), libm::sinf(a))
+/// `exp(jπx)` for `x` in half-turns.
+fn rot(x: f32) -> C32 {
+    let (c, s) = cos_sin_pi(x);
+    C32::new(c, s)
 }
 
 impl Interpolator {
     /// For `n` samples in an `m`-point spectrum.
     pub fn new(n: usize, m: usize) -> Self {
-        use core::f32::consts::PI;
         let (nf, mf) = (n as f32, m as f32);
         Self {
             n,
             m,
-            steps: [rot(PI * nf / mf), rot(PI / mf), rot(PI * (nf - 1.0) / mf)],
+            steps: [rot(nf / mf), rot(1.0 / mf), rot((nf - 1.0) / mf)],
         }
     }
 
     /// Calls `each(b, D(b − f))` (see [`dirichlet`]) for bins `first..first + len`, the sines
     /// advanced by rotation instead of evaluated per bin. O(len).
     pub fn for_each(&self, f: f32, first: usize, len: usize, mut each: impl FnMut(usize, C32)) {
-        use core::f32::consts::PI;
         let (nf, mf) = (self.n as f32, self.m as f32);
         let x0 = first as f32 - f;
         // Angles πxN/M (numerator), πx/M (denominator), πx(N−1)/M (phase), stepped by x += 1.
-        let (mut num, mut den, mut ph) = (
-            rot(PI * x0 * nf / mf),
-            rot(PI * x0 / mf),
-            rot(PI * x0 * (nf - 1.0) / mf),
-        );
+        let (mut num, mut den, mut ph) =
+            (rot(x0 * nf / mf), rot(x0 / mf), rot(x0 * (nf - 1.0) / mf));
         let [dn, dd, dp] = self.steps;
         for t in 0..len {
             let w = if den.im.abs() < 2e-3 {

@@ -304,15 +304,14 @@ fn pack_elements(edge: &Edge, channels: &[C32], m: usize) -> (Vec<u32>, i32) {
         0
     };
     let scale = 2f32.powi(-exponent);
-    let words = sums
-        .iter()
-        .map(|z| {
-            dsp::range::frame_sum::pack(CQ15::from_raw(
-                (z.re * scale).round() as i16,
-                (z.im * scale).round() as i16,
-            ))
-        })
-        .collect();
+    let mut words = vec![0u32; sums.len()];
+    for (i, z) in sums.iter().enumerate() {
+        let at = Spectra::word_index(i / m, i % m, array.elements());
+        words[at] = dsp::range::frame_sum::pack(CQ15::from_raw(
+            (z.re * scale).round() as i16,
+            (z.im * scale).round() as i16,
+        ));
+    }
     (words, exponent)
 }
 
