@@ -18,4 +18,6 @@ fn main() {
     fs::write(out.join("memory.x"), layout).expect("OUT_DIR is writable");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
+    // defmt's interned strings live in an info section of the ELF; defmt-print reads them.
+    println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
 }

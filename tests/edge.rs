@@ -101,3 +101,57 @@ fn qemu_edge_refuses_a_wrong_link_key() {
     let err = json(&b, EdgeKind::Qemu, Key::new(&[0x42; 32])).unwrap_err();
     assert!(err.contains("--link-key"), "{err}");
 }
+
+/// The module's defmt log, decoded by `defmt-print` with the firmware's ELF, tells what it did;
+/// its Health carries the stack high-water mark.
+#[test]
+fn qemu_edge_logs_through_defmt() {
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    simulate(
+        Preset::ParkingLot,
+        RadarKind::Xwr18xx,
+        74,
+        1,
+        tmp.path(),
+        false,
+    )
+    .unwrap();
+    let b = std::fs::read_dir(tmp.path())
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let (out, log) = host_tools::process::process_logged(
+        &b,
+        Mode::Metamoran,
+        OpenOptions::default(),
+        EdgeKind::Qemu,
+        Key::new(&DEV_KEY),
+    )
+    .unwrap();
+    let log = log.expect("the QEMU module reports when it stops");
+    assert!(log.health.stack_bytes > 1024, "{:?}", log.health);
+    assert_eq!(log.health.frames, 1);
+    let text = host_tools::edge::decode_defmt(&log.elf, &log.defmt);
+    if text.contains("cargo install defmt-print") {
+        assert!(!oracles_required(), "defmt-print is required: {text}");
+        return;
+    }
+    let objects = out.frames[0].objects.len();
+    for line in [
+        "INFO  edge module up".to_owned(),
+        "INFO  configured: ".to_owned(),
+        format!("of {objects} objects detected"),
+        format!(
+            "INFO  stopped after 1 frames: 0 capture, 0 pipeline, 0 protocol errors; stack {} bytes",
+            log.health.stack_bytes
+        ),
+    ] {
+        assert!(text.contains(&line), "no {line:?} in the log:\n{text}");
+    }
+}

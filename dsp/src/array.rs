@@ -99,7 +99,9 @@ impl VirtualArray {
         let mut position_of_channel = Vec::new();
         for p in raw {
             let rel = (p - min) as usize;
-            count_at[rel] = count_at[rel].saturating_add(1);
+            if let Some(c) = count_at.get_mut(rel) {
+                *c = c.saturating_add(1);
+            }
             position_of_channel
                 .push(rel as u16)
                 .map_err(|_| ArrayError::Config)?;
@@ -112,10 +114,11 @@ impl VirtualArray {
                 .map_err(|_| ArrayError::Config)?;
             element_count.push(c).map_err(|_| ArrayError::Config)?;
         }
-        let element_of_channel = position_of_channel
-            .iter()
-            .map(|p| element_position.partition_point(|q| q < p) as u16)
-            .collect();
+        let mut element_of_channel = Vec::new();
+        for p in &position_of_channel {
+            let e = element_position.partition_point(|q| q < p) as u16;
+            element_of_channel.push(e).map_err(|_| ArrayError::Config)?;
+        }
         Ok(Self {
             position_of_channel,
             count_at,

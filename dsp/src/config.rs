@@ -171,7 +171,11 @@ impl RadarConfig {
 
     /// Virtual position of `channel` in half-wavelengths, if the channel exists.
     pub fn channel_position(&self, channel: usize) -> Option<i32> {
-        let (slot, rx) = (channel / self.rx_count(), channel % self.rx_count());
+        let rx_count = self.rx_count();
+        let (slot, rx) = (
+            channel.checked_div(rx_count)?,
+            channel.checked_rem(rx_count)?,
+        );
         let tx = *self.tx_order.get(slot)? as usize;
         Some(*self.tx_positions.get(tx)? as i32 + *self.rx_positions.get(rx)? as i32)
     }

@@ -293,7 +293,7 @@ impl Edge {
         rx: usize,
         samples: &[CQ15],
     ) -> Result<(), PipelineError> {
-        let channel = (chirp % self.slots) * self.rx + rx;
+        let channel = chirp.checked_rem(self.slots).unwrap_or(usize::MAX) * self.rx + rx;
         let element = match self.array.element_of(channel) {
             Some(e) if rx < self.rx => e,
             _ => return Err(PipelineError::Chirp { chirp, rx }),
@@ -340,7 +340,8 @@ impl Edge {
         } else {
             1.0
         };
-        (first.clamp(1.0, max_bin - 2.0), max_bin)
+        // max/min rather than clamp: no panic path even for a radar too short to search.
+        (first.min(max_bin - 2.0).max(1.0), max_bin)
     }
 
     /// The contour the search uses for `hint`: directions rounded to a quarter of the array's

@@ -7,7 +7,7 @@
 use core::ptr::{read_volatile, write_volatile};
 // Links cortex-m, which provides the single-core critical section semihosting needs.
 use cortex_m as _;
-use cortex_m_semihosting::{debug, hprintln};
+use cortex_m_semihosting::debug;
 
 /// Base address of the CMSDK APB timer 0.
 const TIMER0: usize = 0x4000_0000;
@@ -54,10 +54,14 @@ pub fn exit(success: bool) -> ! {
     loop {}
 }
 
+/// Logs where the panic happened (defmt, without `core::fmt`) and exits QEMU with failure.
 #[cfg(not(feature = "no-panic-check"))]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo<'_>) -> ! {
-    hprintln!("PANIC: {}", info);
+    match info.location() {
+        Some(at) => defmt::error!("panic at {=str}:{=u32}", at.file(), at.line()),
+        None => defmt::error!("panic"),
+    }
     exit(false)
 }
 
@@ -80,7 +84,7 @@ macro_rules! hard_fault_exits {
     () => {
         #[cortex_m_rt::exception]
         unsafe fn HardFault(frame: &cortex_m_rt::ExceptionFrame) -> ! {
-            cortex_m_semihosting::hprintln!("HARDFAULT at pc={:#010x}", frame.pc());
+            defmt::error!("HardFault at pc={=u32:#010x}", frame.pc());
             $crate::board::exit(false)
         }
     };
@@ -180,5 +184,15 @@ impl StackGauge {
             at += 4;
         }
         self.top - at
+    }
+
+    /// [`Self::high_water`] of the stack painted at boot, as a plain function (for
+    /// [`crate::module::Module::with_stack_gauge`]).
+    pub fn stack_high_water() -> u32 {
+        Self {
+            top: core::ptr::addr_of!(_stack_start) as usize,
+            bottom: core::ptr::addr_of!(_stack_end) as usize,
+        }
+        .high_water() as u32
     }
 }

@@ -7,6 +7,7 @@
 //! * [`module`]: the module's loop (link → hints, capture → pipeline → results), generic over
 //!   the hardware traits of [`capture`], [`clock`] and `embedded-io`;
 //! * [`uart`]: the CMSDK UART driver of the QEMU board's link;
+//! * [`log`]: the event log (`defmt` on the target);
 //! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
 //!   panic handlers, and the semihosting capture file.
 #![no_std]
@@ -17,7 +18,11 @@ pub mod bench_scene;
 pub mod board;
 pub mod capture;
 pub mod clock;
+pub mod log;
 pub mod module;
 pub mod selftest;
 pub mod uart;
 pub mod workload;
+
+#[cfg(target_os = "none")]
+mod defmt_logger;

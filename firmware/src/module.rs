@@ -89,6 +89,7 @@ pub struct Module<'m, C, L, K> {
     sender: Sender,
     queue: DropOldest<Uplink, QUEUE>,
     health: Health,
+    stack_gauge: Option<fn() -> u32>,
 }
 
 impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m, C, L, K> {
@@ -118,6 +119,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             sender: Sender::new(key, Stream::Uplink),
             queue: DropOldest::new(),
             health: Health::default(),
+            stack_gauge: None,
         };
         m.queue.push(Uplink::Hello {
             firmware: FIRMWARE_VERSION,
@@ -126,11 +128,18 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         m
     }
 
+    /// Reports `gauge()` (deepest stack use, bytes) in every [`Health`].
+    pub fn with_stack_gauge(mut self, gauge: fn() -> u32) -> Self {
+        self.stack_gauge = Some(gauge);
+        self
+    }
+
     /// The counters.
     pub fn health(&self) -> Health {
         Health {
             queue_dropped: self.queue.dropped(),
             link: self.receiver.stats(),
+            stack_bytes: self.stack_gauge.map_or(0, |g| g()),
             ..self.health
         }
     }
@@ -178,7 +187,15 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         match message {
             Downlink::Config(config) => {
                 self.edge = match config.validate().ok().and(Edge::new(&config).ok()) {
-                    Some(e) if e.arena_words() <= self.arena.len() && fits(&config) => Some(e),
+                    Some(e) if e.arena_words() <= self.arena.len() && fits(&config) => {
+                        crate::info!(
+                            "configured: {=usize} elements, {=u16} samples, {=usize} rows per frame",
+                            e.array().elements(),
+                            e.samples(),
+                            e.rows_per_frame()
+                        );
+                        Some(e)
+                    }
                     _ => {
                         self.health.pipeline_errors += 1;
                         self.fault(0, Fault::Config);
@@ -274,7 +291,12 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
                 self.fault(frame, Fault::Capture);
                 return;
             }
-            if edge.push(&mut sum, row / rx, row % rx, chirp).is_err() {
+            let (chirp_index, rx_index) = (row.checked_div(rx), row.checked_rem(rx));
+            let pushed = match (chirp_index, rx_index) {
+                (Some(c), Some(r)) => edge.push(&mut sum, c, r, chirp).is_ok(),
+                _ => false,
+            };
+            if !pushed {
                 self.health.pipeline_errors += 1;
                 self.fault(frame, Fault::Pipeline);
                 return;
@@ -309,6 +331,11 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
                 }
                 Err(_) => {
                     self.health.pipeline_errors += 1;
+                    crate::warn!(
+                        "fault at frame {=u32}: {=str}",
+                        frame,
+                        fault_name(Fault::Pipeline)
+                    );
                     self.queue.push(Uplink::Fault {
                         frame,
                         fault: Fault::Pipeline,
@@ -318,10 +345,20 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         }
         self.health.frames += 1;
         summary.busy_us = self.clock.micros().wrapping_sub(start);
+        crate::info!(
+            "frame {=u32}: {=u8} of {=u8} objects detected, {=u8} peaks, {=u32} us",
+            frame,
+            summary.detected,
+            summary.objects,
+            summary.peaks,
+            summary.busy_us
+        );
         self.queue.push(Uplink::Results { summary, objects });
     }
 
+    /// Reports a (counted) error: logged now, sent to the host as a `Fault`.
     fn fault(&mut self, frame: u32, fault: Fault) {
+        crate::warn!("fault at frame {=u32}: {=str}", frame, fault_name(fault));
         self.queue.push(Uplink::Fault { frame, fault });
     }
 
@@ -332,6 +369,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             let encoded = self.sender.encode(msg, &mut out);
             let Ok(len) = encoded else {
                 self.health.protocol_errors += 1;
+                crate::warn!("uplink message could not be encoded; dropped");
                 let _ = self.queue.pop();
                 continue;
             };
@@ -341,6 +379,18 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             }
             let _ = self.queue.pop();
         }
+    }
+}
+
+/// What a fault means, for the log.
+fn fault_name(fault: Fault) -> &'static str {
+    match fault {
+        Fault::NoConfig => "frame before any configuration",
+        Fault::Config => "configuration rejected (invalid or too large for the module)",
+        Fault::Capture => "capture failed (short read or device error)",
+        Fault::Pipeline => "pipeline error",
+        Fault::Link => "link frame rejected (see the link counters)",
+        Fault::Hints => "hints do not match the frame",
     }
 }
 

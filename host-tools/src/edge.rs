@@ -27,6 +27,8 @@ pub struct QemuEdge {
     receiver: Receiver,
     deframer: Deframer,
     link: PathBuf,
+    /// The firmware ELF (its defmt strings decode the log).
+    elf: PathBuf,
     /// Faults the module reported, with their frame.
     pub faults: Vec<(u32, Fault)>,
 }
@@ -36,8 +38,49 @@ pub struct QemuEdge {
 pub struct EdgeLog {
     /// Its health counters.
     pub health: Health,
-    /// Its semihosting output.
-    pub console: String,
+    /// Its semihosting console: defmt frames (decode with
+    /// `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge`).
+    pub defmt: Vec<u8>,
+    /// The firmware ELF that wrote it (defmt-print needs it to decode the log).
+    pub elf: PathBuf,
+}
+
+/// The module's defmt log as text through `defmt-print -e ELF` (the tool `cargo install
+/// defmt-print` provides), or a note saying how to read it when the tool is missing.
+pub fn decode_defmt(elf: &Path, log: &[u8]) -> String {
+    if log.is_empty() {
+        return String::new();
+    }
+    let tool = ["defmt-print".into(), cargo_bin("defmt-print")];
+    for t in tool.iter() {
+        let child = Command::new(t)
+            .args(["-e"])
+            .arg(elf)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn();
+        let Ok(mut child) = child else { continue };
+        if let Some(mut i) = child.stdin.take() {
+            let _ = i.write_all(log);
+        }
+        if let Ok(out) = child.wait_with_output() {
+            return String::from_utf8_lossy(&out.stdout).into_owned();
+        }
+    }
+    format!(
+        "({} bytes of defmt log: `cargo install defmt-print` to read them)",
+        log.len()
+    )
+}
+
+/// `~/.cargo/bin/NAME`.
+fn cargo_bin(name: &str) -> PathBuf {
+    let home = std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
+        .unwrap_or_default();
+    home.join("bin").join(name)
 }
 
 impl QemuEdge {
@@ -89,6 +132,7 @@ impl QemuEdge {
             receiver: Receiver::new(key2, Stream::Uplink),
             deframer: Deframer::new(),
             link,
+            elf: elf.clone(),
             faults: Vec::new(),
         };
         match edge.receive()? {
@@ -179,14 +223,21 @@ impl QemuEdge {
             }
             std::thread::sleep(Duration::from_millis(20));
         };
-        let mut console = String::new();
+        let mut defmt = Vec::new();
         if let Some(mut o) = self.child.stdout.take() {
-            let _ = o.read_to_string(&mut console);
+            let _ = o.read_to_end(&mut defmt);
         }
         if !status.success() {
-            return Err(format!("the module exited with {status}:\n{console}"));
+            return Err(format!(
+                "the module exited with {status}:\n{}",
+                decode_defmt(&self.elf, &defmt)
+            ));
         }
-        Ok(EdgeLog { health, console })
+        Ok(EdgeLog {
+            health,
+            defmt,
+            elf: self.elf.clone(),
+        })
     }
 
     fn send(&mut self, msg: &Downlink) -> Result<(), String> {
@@ -242,10 +293,11 @@ impl QemuEdge {
     /// Why the link closed, from QEMU's output.
     fn died(&mut self) -> String {
         let _ = self.child.wait();
-        let mut text = String::new();
+        let mut log = Vec::new();
         if let Some(mut o) = self.child.stdout.take() {
-            let _ = o.read_to_string(&mut text);
+            let _ = o.read_to_end(&mut log);
         }
+        let mut text = decode_defmt(&self.elf, &log);
         if let Some(mut e) = self.child.stderr.take() {
             let _ = e.read_to_string(&mut text);
         }

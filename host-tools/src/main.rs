@@ -75,6 +75,10 @@ enum Command {
         /// is built with unless METAMORAN_LINK_KEY was set at its build).
         #[arg(long, env = "METAMORAN_LINK_KEY", hide_env_values = true)]
         link_key: Option<String>,
+        /// With `--edge qemu`: write the module's defmt log (binary frames) to this file; read it
+        /// with `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge < FILE`.
+        #[arg(long, value_name = "FILE")]
+        edge_log: Option<PathBuf>,
         /// Print the JSON document (cli.md) instead of a table.
         #[arg(long)]
         json: bool,
@@ -228,6 +232,7 @@ fn run(cli: Cli) -> Result<(), String> {
             iq_order,
             edge,
             link_key,
+            edge_log,
             json,
         } => {
             let key = match link_key {
@@ -236,7 +241,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 }
                 None => dsp::wire::Key::new(&dsp::wire::DEV_KEY),
             };
-            let out = host_tools::process::process_on(
+            let (out, log) = host_tools::process::process_logged(
                 &bundle,
                 mode,
                 OpenOptions {
@@ -245,6 +250,13 @@ fn run(cli: Cli) -> Result<(), String> {
                 edge,
                 key,
             )?;
+            if let Some(path) = edge_log {
+                let bytes = log.map(|l| l.defmt).ok_or(
+                    "--edge-log: only the module under QEMU (--mode metamoran --edge qemu) logs",
+                )?;
+                std::fs::write(&path, bytes)
+                    .map_err(|e| format!("--edge-log {}: {e}", path.display()))?;
+            }
             if json {
                 println!(
                     "{}",

@@ -108,8 +108,10 @@ pub fn scan(
 
 /// Local maxima of the row of bin `k` (its neighbours are the rows of `k ± 1`).
 fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>) {
-    let row = |kk: usize| &rows[(kk % 3) * na..(kk % 3 + 1) * na];
-    let (prev, cur, next) = (row(k - 1), row(k), row(k + 1));
+    let row = |kk: usize| rows.get((kk % 3) * na..(kk % 3 + 1) * na);
+    let (Some(prev), Some(cur), Some(next)) = (row(k.wrapping_sub(1)), row(k), row(k + 1)) else {
+        return;
+    };
     for j in 0..na {
         let v = cur[j];
         if v == 0 {
@@ -121,14 +123,15 @@ fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>
         );
         // Strictly above what comes earlier in scan order, at least what comes later. The row's
         // own neighbours first: they reject most cells before the other rows are read.
-        let is_peak = v > cur[l]
-            && v >= cur[r]
-            && v > prev[j]
-            && v >= next[j]
-            && v > prev[l]
-            && v > prev[r]
-            && v >= next[l]
-            && v >= next[r];
+        let at = |row: &[u64], i: usize| row.get(i).copied().unwrap_or(0);
+        let is_peak = v > at(cur, l)
+            && v >= at(cur, r)
+            && v > at(prev, j)
+            && v >= at(next, j)
+            && v > at(prev, l)
+            && v > at(prev, r)
+            && v >= at(next, l)
+            && v >= at(next, r);
         if is_peak {
             insert(
                 out,

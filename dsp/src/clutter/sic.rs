@@ -122,8 +122,12 @@ impl<'s, 'a> Residual<'s, 'a> {
             steering: Steering::new(geo.positions, sin_az),
             gains: reflectors
                 .iter()
+                .take(MAX_REFLECTORS)
                 .map(|r| array_factor(geo.positions, geo.counts, r.sin_az - sin_az))
-                .collect(),
+                .fold(Vec::new(), |mut v, g| {
+                    let _ = v.push(g);
+                    v
+                }),
             reflectors,
         }
     }

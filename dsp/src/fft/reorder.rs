@@ -62,8 +62,11 @@ fn swaps(n: usize) -> &'static [u32] {
 pub fn bit_reverse<T>(buf: &mut [T]) {
     for &pair in swaps(buf.len()) {
         let (i, r) = ((pair & 0xFFFF) as usize, (pair >> 16) as usize);
-        if r < buf.len() {
-            buf.swap(i, r);
+        // `i < r` in every table entry: split there and swap across the halves.
+        if let Some((lo, hi)) = buf.split_at_mut_checked(r)
+            && let (Some(a), Some(b)) = (lo.get_mut(i), hi.first_mut())
+        {
+            core::mem::swap(a, b);
         }
     }
 }

@@ -111,6 +111,16 @@ impl<'a> FrameSum<'a> {
         })
     }
 
+    /// The arena turned out smaller than [`Self::words_needed`] (checked in [`Self::new`], so
+    /// only reachable through a logic error; reported, never a panic).
+    fn arena_error(&self) -> RangeError {
+        RangeError::Buffer {
+            what: "frame arena (u32 words)",
+            expected: Self::words_needed(self.elements, self.n, self.m),
+            got: self.words.len(),
+        }
+    }
+
     /// Adds one chirp of one channel into its element's sums (saturating). O(N).
     ///
     /// # Errors
@@ -130,7 +140,9 @@ impl<'a> FrameSum<'a> {
             });
         }
         let start = element * self.stride();
-        let row = &mut self.words[start..start + 2 * self.n];
+        let Some(row) = self.words.get_mut(start..start + 2 * self.n) else {
+            return Err(self.arena_error());
+        };
         for (acc, z) in row.chunks_exact_mut(2).zip(chirp) {
             acc[0] = (acc[0] as i32).saturating_add(z.re.0 as i32) as u32;
             acc[1] = (acc[1] as i32).saturating_add(z.im.0 as i32) as u32;
@@ -165,7 +177,9 @@ impl<'a> FrameSum<'a> {
         };
         let mut exps: Vec<i32, MAX_CHANNELS> = Vec::new();
         for e in 0..self.elements {
-            let sums = &self.words[e * stride..e * stride + 2 * n];
+            let Some(sums) = self.words.get(e * stride..e * stride + 2 * n) else {
+                return Err(self.arena_error());
+            };
             let peak = sums
                 .iter()
                 .map(|&w| (w as i32).unsigned_abs())
@@ -189,10 +203,13 @@ impl<'a> FrameSum<'a> {
                 };
                 *o = CQ15::new(q(acc[0]), q(acc[1]));
             }
-            row[n..].fill(CQ15::default());
+            row.iter_mut().skip(n).for_each(|z| *z = CQ15::default());
             let Exponent(fe) = fft::cfft_q15(row)?;
             let _ = exps.push(shift + fe as i32);
-            for (w, z) in self.words[e * m..(e + 1) * m].iter_mut().zip(row.iter()) {
+            let Some(out) = self.words.get_mut(e * m..(e + 1) * m) else {
+                return Err(self.arena_error());
+            };
+            for (w, z) in out.iter_mut().zip(row.iter()) {
                 *w = pack(*z);
             }
         }
@@ -200,18 +217,24 @@ impl<'a> FrameSum<'a> {
         // Interleave bin-major through a copy of the rows in the upper half, aligning each row
         // to the common exponent on the way: O(E·M), a few per cent of the transforms.
         let size = self.elements * m;
-        let (spec, rest) = self.words.split_at_mut(size);
-        let Some(rows) = rest.get_mut(..size) else {
-            return Err(RangeError::Buffer {
-                what: "frame arena (u32 words)",
-                expected: 2 * size,
-                got: size + rest.len(),
-            });
+        let error = self.arena_error();
+        let Some((spec, rest)) = self.words.split_at_mut_checked(size) else {
+            return Err(error);
         };
-        rows.copy_from_slice(spec);
+        let Some(rows) = rest.get_mut(..size) else {
+            return Err(error);
+        };
+        for (r, &s) in rows.iter_mut().zip(spec.iter()) {
+            *r = s;
+        }
         for (e, (row, &x)) in rows.chunks_exact(m).zip(&exps).enumerate() {
             let d = (exponent - x) as u32;
-            for (o, &w) in spec.iter_mut().skip(e).step_by(self.elements).zip(row) {
+            for (o, &w) in spec
+                .iter_mut()
+                .skip(e)
+                .step_by(self.elements.max(1))
+                .zip(row)
+            {
                 *o = if d > 0 {
                     pack(unpack(w).scale_down(d))
                 } else {

@@ -185,6 +185,54 @@ pub fn brute_force(
     })
 }
 
+/// The upper median of `values` (the element at sorted position `len / 2` under
+/// [`f32::total_cmp`]; 0 for none) by a four-pass radix select on the order-preserving bit
+/// keys: O(len), no reordering, no panic path.
+fn median(values: &[f32]) -> f32 {
+    // Flip the sign bit of positives, every bit of negatives: unsigned order = total order.
+    let key = |v: f32| {
+        let b = v.to_bits();
+        if b >> 31 == 1 { !b } else { b | 0x8000_0000 }
+    };
+    let (mut prefix, mut rank) = (0u32, values.len() / 2);
+    for shift in [24u32, 16, 8, 0] {
+        // Keys agreeing with `prefix` above this byte, counted per value of the byte.
+        let above = |k: u32| {
+            if shift == 24 {
+                true
+            } else {
+                k >> (shift + 8) == prefix >> (shift + 8)
+            }
+        };
+        let mut counts = [0u16; 256];
+        for &v in values {
+            let k = key(v);
+            if above(k) {
+                let c = &mut counts[((k >> shift) & 0xFF) as usize];
+                *c = c.saturating_add(1);
+            }
+        }
+        let mut byte = 0u32;
+        for (b, &c) in counts.iter().enumerate() {
+            if rank < c as usize {
+                byte = b as u32;
+                break;
+            }
+            rank -= c as usize;
+        }
+        prefix |= byte << shift;
+    }
+    if values.is_empty() {
+        return 0.0;
+    }
+    let bits = if prefix >> 31 == 1 {
+        prefix & 0x7FFF_FFFF
+    } else {
+        !prefix
+    };
+    f32::from_bits(bits)
+}
+
 /// Fine steps in `bins`, if the range is valid for an `m`-bin spectrum.
 fn fine_steps(bins: (f32, f32), m: usize) -> Result<usize, SearchError> {
     let (lo, hi) = bins;
@@ -216,8 +264,10 @@ impl Profiles<'_> {
 
     fn set(&mut self, point: usize, i: usize, z: C32) {
         let at = 2 * (point * self.len + i);
-        self.words[at] = z.re.to_bits();
-        self.words[at + 1] = z.im.to_bits();
+        if let Some([re, im]) = self.words.get_mut(at..at + 2) {
+            *re = z.re.to_bits();
+            *im = z.im.to_bits();
+        }
     }
 }
 
@@ -296,34 +346,38 @@ pub fn coarse_to_fine(
     }
     // 2. Coarse scores on the bin grid.
     // Point-outer, depth-inner: each score still adds its points in contour order from 0.
+    // `win[i]` is the score of depth bin `lo + i`.
     scores.fill(0.0);
+    let Some(win) = scores.get_mut(lo..=hi) else {
+        return Err(SearchError::Range);
+    };
     for (&b, &(o, _)) in beam_of.iter().zip(&offsets).take(k) {
-        for (p, z) in scores[lo..=hi].iter_mut().zip(prof.from(b, lo + o)) {
+        for (p, z) in win.iter_mut().zip(prof.from(b, lo + o)) {
             *p += C32::new(f32::from_bits(z[0]), f32::from_bits(z[1])).norm_sqr();
         }
     }
-    macs += (k * (hi + 1 - lo)) as u64;
-    // 3. Best coarse candidates (local maxima), then P on the fine grid around them.
-    let mut cands = [usize::MAX; CANDIDATES];
-    for d in lo..=hi {
-        let v = scores[d];
-        let is_peak = (d == lo || scores[d - 1] <= v) && (d == hi || scores[d + 1] <= v);
+    macs += (k * win.len()) as u64;
+    // 3. Best coarse candidates (local maxima, strongest first), then P on the fine grid
+    //    around them.
+    let mut cands: [Option<(usize, f32)>; CANDIDATES] = [None; CANDIDATES];
+    for (i, &v) in win.iter().enumerate() {
+        let left = i.checked_sub(1).and_then(|j| win.get(j));
+        let is_peak = left.is_none_or(|&l| l <= v) && win.get(i + 1).is_none_or(|&r| r <= v);
         if !is_peak {
             continue;
         }
-        if let Some(slot) =
-            (0..CANDIDATES).find(|&i| cands[i] == usize::MAX || scores[cands[i]] < v)
-        {
-            for i in (slot + 1..CANDIDATES).rev() {
-                cands[i] = cands[i - 1];
+        if let Some(slot) = cands.iter().position(|c| c.is_none_or(|(_, s)| s < v)) {
+            // Insert, shifting the weaker ones down (the weakest drops out).
+            let mut carry = Some((lo + i, v));
+            for c in cands.iter_mut().skip(slot) {
+                carry = core::mem::replace(c, carry);
             }
-            cands[slot] = d;
         }
     }
     let mut best = (f32::NEG_INFINITY, 0.0f32);
     let fine = FINE_STEPS_PER_BIN as f32;
     let interp = Interpolator::new(geo.samples, m);
-    for &cand in cands.iter().filter(|&&d| d != usize::MAX) {
+    for &(cand, _) in cands.iter().flatten() {
         // Fine grid points within ±1 bin, aligned with brute_force's grid from bins.0.
         let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
         let to = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
@@ -355,13 +409,12 @@ pub fn coarse_to_fine(
     // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
     let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
     let centre = libm::roundf(best.1) as usize;
-    let runner_up = (lo..=hi)
-        .filter(|&d| d + guard < centre || d > centre + guard)
-        .map(|d| scores[d])
+    let runner_up = (lo..)
+        .zip(win.iter())
+        .filter(|&(d, _)| d + guard < centre || d > centre + guard)
+        .map(|(_, &v)| v)
         .fold(0.0, f32::max);
-    let window = &mut scores[lo..=hi];
-    let mid = window.len() / 2;
-    let floor = *window.select_nth_unstable_by(mid, f32::total_cmp).1;
+    let floor = median(win);
     Ok(SearchResult {
         depth_bins: best.1,
         depth_m: best.1 * geo.bin_m,
@@ -370,4 +423,37 @@ pub fn coarse_to_fine(
         runner_up,
         macs,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median;
+
+    #[test]
+    fn median_matches_select_nth() {
+        let mut x = 12345u64;
+        for len in [0usize, 1, 2, 3, 10, 255, 256, 257, 511] {
+            let values: std::vec::Vec<f32> = (0..len)
+                .map(|i| {
+                    x = x
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    match i % 7 {
+                        0 => 0.0,
+                        1 => -0.0,
+                        2 => -((x >> 40) as f32),
+                        3 => 1.5, // ties
+                        _ => (x >> 20) as f32 * 1e-3,
+                    }
+                })
+                .collect();
+            let mut sorted = values.clone();
+            let expected = if len == 0 {
+                0.0
+            } else {
+                *sorted.select_nth_unstable_by(len / 2, f32::total_cmp).1
+            };
+            assert_eq!(median(&values).to_bits(), expected.to_bits(), "len {len}");
+        }
+    }
 }

@@ -105,9 +105,12 @@ impl Sender {
             .map_err(|_| EncodeError::TooLarge)?
             .len();
         let body = HEADER_LEN + payload;
-        let tag = self.key.tag(&raw[..body]);
-        raw[body..body + TAG_LEN].copy_from_slice(&tag);
-        let n = cobs::try_encode(&raw[..body + TAG_LEN], out).map_err(|_| EncodeError::Buffer)?;
+        let tag = self.key.tag(raw.get(..body).ok_or(EncodeError::TooLarge)?);
+        let sealed = raw.get_mut(..body + TAG_LEN).ok_or(EncodeError::TooLarge)?;
+        for (o, &t) in sealed.iter_mut().skip(body).zip(&tag) {
+            *o = t;
+        }
+        let n = cobs::try_encode(sealed, out).map_err(|_| EncodeError::Buffer)?;
         *out.get_mut(n).ok_or(EncodeError::Buffer)? = 0;
         self.counter = counter;
         Ok(n + 1)

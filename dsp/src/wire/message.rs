@@ -234,6 +234,8 @@ pub struct Health {
     pub queue_dropped: u32,
     /// What the downlink receiver saw.
     pub link: LinkStats,
+    /// Deepest stack use so far, bytes (stack painting; 0 where the board does not measure it).
+    pub stack_bytes: u32,
 }
 
 /// What went wrong on the module, reported as it happens.

@@ -2,6 +2,10 @@
 //! the semihosting command line (QEMU stands in for the radar board's SPI port), the pipeline per
 //! object. Exits through semihosting when the host sends `Stop`.
 //!
+//! Logs are defmt frames on the semihosting console (QEMU's stdout): pipe it through
+//! `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge` to read them, or let
+//! `metamoran process … --edge qemu --edge-log FILE` keep them.
+//!
 //! Run by `metamoran process BUNDLE --mode metamoran --edge qemu`; by hand:
 //! `qemu-system-arm -machine mps2-an500 -nographic -monitor none -serial tcp:127.0.0.1:PORT,server=on,wait=on
 //!  -semihosting-config enable=on,target=native,arg=edge,arg=BUNDLE/radar.bin -kernel edge`.
@@ -10,9 +14,8 @@
 #[cfg(target_os = "none")]
 mod app {
     use cortex_m_rt::entry;
-    use cortex_m_semihosting::hprintln;
     use dsp::wire::{DEV_KEY, Key};
-    use firmware::board::{SemihostingFile, Timer0};
+    use firmware::board::{SemihostingFile, StackGauge, Timer0};
     use firmware::module::{Module, Poll, Scratch};
     use firmware::uart::{CmsdkUart, UART0};
 
@@ -25,21 +28,21 @@ mod app {
 
     #[entry]
     fn main() -> ! {
-        let stack = firmware::board::StackGauge::paint();
+        let _ = StackGauge::paint();
         let key = match option_env!("METAMORAN_LINK_KEY") {
             Some(hex) => match Key::from_hex(hex) {
                 Ok(k) => k,
-                Err(e) => {
-                    hprintln!("EDGE error=key {}", e);
+                Err(_) => {
+                    defmt::error!(
+                        "METAMORAN_LINK_KEY is not 64 hex digits: rebuild with a valid key"
+                    );
                     firmware::board::exit(false)
                 }
             },
             None => Key::new(&DEV_KEY),
         };
         let Some(capture) = SemihostingFile::from_cmdline(1) else {
-            hprintln!(
-                "EDGE error=capture: pass the capture file as the second semihosting argument"
-            );
+            defmt::error!("no capture: pass the capture file as the second semihosting argument");
             firmware::board::exit(false)
         };
         // SAFETY: the only references to ARENA and SCRATCH, taken once here.
@@ -51,17 +54,19 @@ mod app {
         };
         // SAFETY: UART0 is this board's CMSDK UART and nothing else drives it.
         let uart = unsafe { CmsdkUart::new(UART0, 25_000_000, 115_200) };
-        let mut module = Module::new(capture, uart, Timer0::start(), arena, scratch, key);
+        let mut module = Module::new(capture, uart, Timer0::start(), arena, scratch, key)
+            .with_stack_gauge(StackGauge::stack_high_water);
+        defmt::info!("edge module up: waiting for the host on UART0");
         loop {
             if module.poll() == Poll::Stopped {
                 let h = module.health();
-                hprintln!(
-                    "EDGE stopped frames={} capture_errors={} pipeline_errors={} protocol_errors={} stack_bytes={}",
+                defmt::info!(
+                    "stopped after {=u32} frames: {=u32} capture, {=u32} pipeline, {=u32} protocol errors; stack {=u32} bytes",
                     h.frames,
                     h.capture_errors,
                     h.pipeline_errors,
                     h.protocol_errors,
-                    stack.high_water()
+                    h.stack_bytes
                 );
                 firmware::board::exit(true)
             }

@@ -182,13 +182,10 @@ fn edge_stack() -> Result<u64, String> {
         Key::new(&DEV_KEY),
     )?;
     let _ = std::fs::remove_dir_all(&dir);
-    let console = log.map(|l| l.console).unwrap_or_default();
-    let stack = console
-        .lines()
-        .find_map(|l| field(l, "stack_bytes=").and_then(|s| s.parse().ok()))
-        .ok_or(format!(
-            "the edge firmware did not report its stack:\n{console}"
-        ))?;
+    let stack = log
+        .map(|l| u64::from(l.health.stack_bytes))
+        .filter(|&s| s > 0)
+        .ok_or("the edge firmware did not report its stack in its Health message")?;
     Ok(stack)
 }
 
