@@ -42,6 +42,17 @@ fn repeat_frames(dir: &Path, frames: u32) {
     let _ = std::fs::remove_file(dir.join("truth.json"));
 }
 
+/// One single-frame xWR18xx bundle of `preset` simulated into `dir`.
+fn one_bundle(preset: Preset, seed: u64, dir: &Path) -> std::path::PathBuf {
+    simulate(preset, RadarKind::Xwr18xx, seed, 1, dir, false).unwrap();
+    std::fs::read_dir(dir)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path()
+}
+
 #[test]
 fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
     if !qemu_available() {
@@ -83,21 +94,7 @@ fn qemu_edge_refuses_a_wrong_link_key() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    simulate(
-        Preset::LongRange,
-        RadarKind::Xwr18xx,
-        73,
-        1,
-        tmp.path(),
-        false,
-    )
-    .unwrap();
-    let b = std::fs::read_dir(tmp.path())
-        .unwrap()
-        .next()
-        .unwrap()
-        .unwrap()
-        .path();
+    let b = one_bundle(Preset::LongRange, 73, tmp.path());
     let err = json(&b, EdgeKind::Qemu, Key::new(&[0x42; 32])).unwrap_err();
     assert!(err.contains("--link-key"), "{err}");
 }
@@ -111,21 +108,7 @@ fn qemu_edge_logs_through_defmt() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
-    simulate(
-        Preset::ParkingLot,
-        RadarKind::Xwr18xx,
-        74,
-        1,
-        tmp.path(),
-        false,
-    )
-    .unwrap();
-    let b = std::fs::read_dir(tmp.path())
-        .unwrap()
-        .next()
-        .unwrap()
-        .unwrap()
-        .path();
+    let b = one_bundle(Preset::ParkingLot, 74, tmp.path());
     let (out, log) = host_tools::process::process_logged(
         &b,
         Mode::Metamoran,
