@@ -317,6 +317,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             busy_us: 0,
         };
         let mut objects = Vec::new();
+        let mut failed = 0u32;
         for hint in &self.hints {
             match edge.object(
                 &mut scene,
@@ -329,19 +330,13 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
                     // Cannot overflow: at most MAX_OBJECTS hints.
                     let _ = objects.push(r);
                 }
-                Err(_) => {
-                    self.health.pipeline_errors += 1;
-                    crate::warn!(
-                        "fault at frame {=u32}: {=str}",
-                        frame,
-                        fault_name(Fault::Pipeline)
-                    );
-                    self.queue.push(Uplink::Fault {
-                        frame,
-                        fault: Fault::Pipeline,
-                    });
-                }
+                Err(_) => failed += 1,
             }
+        }
+        // Reported once the scratch is free (still before the frame's results).
+        for _ in 0..failed {
+            self.health.pipeline_errors += 1;
+            self.fault(frame, Fault::Pipeline);
         }
         self.health.frames += 1;
         summary.busy_us = self.clock.micros().wrapping_sub(start);
