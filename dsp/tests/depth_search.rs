@@ -209,6 +209,26 @@ fn beam_domain_cancellation_equals_time_domain_subtraction() {
     // The reflector is gone (≥ 30 dB) and both domains agree to Q15 precision of the peak.
     assert!(after < 0.03 * before, "{after} of {before}");
     assert!(worst < 2e-3 * before, "worst {worst} of {before}");
+    // Filling a run gives the single-bin beams, clipped to the spectrum.
+    let m = scene.spectra.bins();
+    for first in [0usize, 20, m - 5] {
+        let mut run = vec![C32::new(f32::NAN, 0.0); 40];
+        residual.fill(first, &mut run);
+        for (k, z) in (first..).zip(&run) {
+            if k < m {
+                assert_eq!(*z, residual.at(k), "bin {k}");
+            } else {
+                assert!(z.re.is_nan(), "bin {k} beyond the spectrum was written");
+            }
+        }
+    }
+    // A residual valid only near some bins gives the same beams there.
+    for (lo, hi) in [(28usize, 30usize), (33, 33), (36, 39)] {
+        let near = Residual::near(&scene.spectra, &geo, &reflectors, s, lo..=hi);
+        for k in lo..=hi {
+            assert_eq!(near.at(k), residual.at(k), "bin {k}");
+        }
+    }
 }
 
 #[test]

@@ -174,6 +174,27 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
         hash: h.0,
     });
 
+    // The beams' dual-MAC loop at every length across its four-pair turns and remainders.
+    let mut x = [CQ15::default(); 48];
+    let mut w = [CQ15::default(); 48];
+    noise_q15(48, Q15(32767), &mut x);
+    noise_q15(49, Q15(32767), &mut w);
+    let pack = |z: &[CQ15; 48]| z.map(dsp::range::frame_sum::pack);
+    let (xw, ww) = (pack(&x), pack(&w));
+    let mut h = Fnv::default();
+    for len in 0..=xw.len() {
+        let (re, im) = dsp::fft::complex_mac(&xw[..len], &ww[..len]);
+        h.u32(re as u32);
+        h.u32((re >> 32) as u32);
+        h.u32(im as u32);
+        h.u32((im >> 32) as u32);
+    }
+    emit(Outcome {
+        name: "complex_mac_0_to_48",
+        exponent: 0,
+        hash: h.0,
+    });
+
     emit(search_workload());
 }
 

@@ -106,15 +106,19 @@ pub fn scan(
     Ok(out)
 }
 
-/// Local maxima of the row of bin `k` (its neighbours are the rows of `k ± 1`).
+/// Local maxima of the row of bin `k` (its neighbours are the rows of `k ± 1`). Once `out` is
+/// full, a cell at or below its weakest peak could not enter it, so one comparison rejects it:
+/// the scan then costs a load and a compare for almost every cell.
 fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>) {
     let row = |kk: usize| rows.get((kk % 3) * na..(kk % 3 + 1) * na);
     let (Some(prev), Some(cur), Some(next)) = (row(k.wrapping_sub(1)), row(k), row(k + 1)) else {
         return;
     };
-    for j in 0..na {
-        let v = cur[j];
-        if v == 0 {
+    let at = |row: &[u64], i: usize| row.get(i).copied().unwrap_or(0);
+    let mut floor = weakest(out);
+    for (j, &v) in cur.iter().enumerate() {
+        // `insert` keeps a peak only if it is stronger than the weakest of a full list.
+        if v <= floor {
             continue;
         }
         let (l, r) = (
@@ -123,7 +127,6 @@ fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>
         );
         // Strictly above what comes earlier in scan order, at least what comes later. The row's
         // own neighbours first: they reject most cells before the other rows are read.
-        let at = |row: &[u64], i: usize| row.get(i).copied().unwrap_or(0);
         let is_peak = v > at(cur, l)
             && v >= at(cur, r)
             && v > at(prev, j)
@@ -141,7 +144,18 @@ fn find_maxima(rows: &[u64], na: usize, k: usize, out: &mut Vec<Peak, MAX_PEAKS>
                     power: v,
                 },
             );
+            floor = weakest(out);
         }
+    }
+}
+
+/// The power a cell must exceed to enter `out`: the weakest kept once it is full (else 0, so
+/// empty cells are skipped too).
+fn weakest(out: &Vec<Peak, MAX_PEAKS>) -> u64 {
+    if out.is_full() {
+        out.last().map_or(0, |p| p.power)
+    } else {
+        0
     }
 }
 
@@ -161,6 +175,63 @@ fn insert(out: &mut Vec<Peak, MAX_PEAKS>, p: Peak) {
 mod tests {
     use super::*;
     use crate::range::frame_sum::pack;
+
+    /// The kept peaks are the [`MAX_PEAKS`] strongest of every local maximum of the stored map,
+    /// listed by a plain sort (stable: ties keep scan order).
+    #[test]
+    fn keeps_the_strongest_of_all_maxima() {
+        let (el, m, na) = (8usize, 96usize, 16usize);
+        let pos: std::vec::Vec<u16> = (0..el as u16).collect();
+        let mut x = 99u64;
+        let words: std::vec::Vec<u32> = (0..el * m)
+            .map(|_| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                pack(CQ15::from_raw(
+                    (x >> 52) as i16 - 2048,
+                    (x >> 36) as i16 >> 4,
+                ))
+            })
+            .collect();
+        let spec = Spectra::from_words(&words, el, m, 0).unwrap();
+        let last = 90usize;
+        // The whole map, row 0 and row `last` empty.
+        let mut map = std::vec![std::vec![0u64; na]; last + 1];
+        for (k, row) in map.iter_mut().enumerate().take(last).skip(1) {
+            let mut fft = std::vec![CQ15::default(); na];
+            for (&p, &w) in pos.iter().zip(spec.column(k)) {
+                fft[p as usize] = unpack(w);
+            }
+            let shift = crate::fft::cfft_q15(&mut fft).map_or(0, |e| 2 * e.0);
+            for (o, z) in row.iter_mut().zip(&fft) {
+                *o = (z.norm_sqr_raw() as u64) << shift;
+            }
+        }
+        let mut all = std::vec::Vec::new();
+        for k in 1..last {
+            for j in 0..na {
+                let v = map[k][j];
+                let (l, r) = ((j + na - 1) % na, (j + 1) % na);
+                let earlier = [map[k][l], map[k - 1][j], map[k - 1][l], map[k - 1][r]];
+                let later = [map[k][r], map[k + 1][j], map[k + 1][l], map[k + 1][r]];
+                if v > 0 && earlier.iter().all(|&e| v > e) && later.iter().all(|&e| v >= e) {
+                    all.push(Peak {
+                        bin: k as u16,
+                        az: j as u16,
+                        power: v,
+                    });
+                }
+            }
+        }
+        assert!(all.len() > 2 * MAX_PEAKS, "{} maxima", all.len());
+        all.sort_by(|a, b| b.power.cmp(&a.power));
+        all.truncate(MAX_PEAKS);
+        let mut fft = [CQ15::default(); 16];
+        let mut rows = [0u64; 48];
+        let peaks = scan(&spec, &pos, last, &mut fft, &mut rows).unwrap();
+        assert_eq!(peaks.as_slice(), all.as_slice());
+    }
 
     #[test]
     fn finds_two_reflectors_strongest_first() {

@@ -117,13 +117,32 @@ impl<'s, 'a> Residual<'s, 'a> {
         reflectors: &'s [Reflector],
         sin_az: f32,
     ) -> Self {
+        Self::near(spectra, geo, reflectors, sin_az, 0..=usize::MAX)
+    }
+
+    /// Toward `sin_az`, valid only for the bins in `bins`: the array factor is computed only for
+    /// the reflectors whose tone reaches them (the others get gain 0). O(E·(1 + R_near)).
+    pub fn near(
+        spectra: &'s Spectra<'a>,
+        geo: &Geometry<'_>,
+        reflectors: &'s [Reflector],
+        sin_az: f32,
+        bins: core::ops::RangeInclusive<usize>,
+    ) -> Self {
+        let reaches = |r: &Reflector| r.first <= *bins.end() && r.first + TONE_LEN > *bins.start();
         Self {
             spectra,
             steering: Steering::new(geo.positions, sin_az),
             gains: reflectors
                 .iter()
                 .take(MAX_REFLECTORS)
-                .map(|r| array_factor(geo.positions, geo.counts, r.sin_az - sin_az))
+                .map(|r| {
+                    if reaches(r) {
+                        array_factor(geo.positions, geo.counts, r.sin_az - sin_az)
+                    } else {
+                        C32::new(0.0, 0.0)
+                    }
+                })
                 .fold(Vec::new(), |mut v, g| {
                     let _ = v.push(g);
                     v
@@ -142,18 +161,30 @@ impl<'s, 'a> Residual<'s, 'a> {
         b
     }
 
-    /// Calls `each(k, at(k))` for bins `first..first + len` (clipped to the spectrum), each
-    /// reflector subtracted only within its tone.
-    /// The same values as [`Self::at`]. O((E + R)·len).
-    pub fn run(&self, first: usize, len: usize, mut each: impl FnMut(usize, C32)) {
-        self.steering.run(self.spectra, first, len, |k, mut b| {
-            for (r, &g) in self.reflectors.iter().zip(&self.gains) {
-                if let Some(t) = k.checked_sub(r.first).and_then(|i| r.tone.get(i)) {
-                    b -= *t * g;
+    /// Writes the residual beams of bins `first..first + out.len()` (clipped to the spectrum)
+    /// into `out`: the steered beams, then each reflector's tone subtracted over its own bins
+    /// only. Each bin sees the same operations in the same order as in [`Self::at`], so the
+    /// values are identical. O(E·len + R·[`TONE_LEN`]).
+    pub fn fill(&self, first: usize, out: &mut [C32]) {
+        let len = out.len().min(self.spectra.bins().saturating_sub(first));
+        let Some(out) = out.get_mut(..len) else {
+            return;
+        };
+        self.steering.run(self.spectra, first, len, |k, b| {
+            if let Some(o) = out.get_mut(k - first) {
+                *o = b;
+            }
+        });
+        for (r, &g) in self.reflectors.iter().zip(&self.gains) {
+            for (i, t) in r.tone.iter().enumerate() {
+                if let Some(o) = (r.first + i)
+                    .checked_sub(first)
+                    .and_then(|j| out.get_mut(j))
+                {
+                    *o -= *t * g;
                 }
             }
-            each(k, b);
-        });
+        }
     }
 
     /// Its power at bin `k`.
@@ -202,21 +233,22 @@ pub fn cancel(
         if k == 0 || k + 1 >= m {
             continue;
         }
-        let here = Residual::new(spectra, geo, &out, s0);
+        let here = Residual::near(spectra, geo, &out, s0, k - 1..=k + 1);
         let pw = here.power(k);
         if pw <= threshold {
             continue; // it was a side lobe of one already cancelled
         }
         let ds = 2.0 / na as f32;
         let dr = quad(here.power(k - 1), pw, here.power(k + 1));
-        let left = Residual::new(spectra, geo, &out, s0 - ds).power(k);
-        let right = Residual::new(spectra, geo, &out, s0 + ds).power(k);
+        let left = Residual::near(spectra, geo, &out, s0 - ds, k..=k).power(k);
+        let right = Residual::near(spectra, geo, &out, s0 + ds, k..=k).power(k);
         let da = quad(left, pw, right);
         let (r, s) = (k as f32 + dr, (s0 + da * ds).clamp(-1.0, 1.0));
         // Least squares over the main lobe: α = Σ T*·R(k, s) / (C·Σ|T|²).
-        let at = Residual::new(spectra, geo, &out, s);
+        let fit = k.saturating_sub(FIT_HALF_WIDTH)..=(k + FIT_HALF_WIDTH).min(m - 1);
+        let at = Residual::near(spectra, geo, &out, s, fit.clone());
         let (mut num, mut den) = (C32::new(0.0, 0.0), 0.0f32);
-        for kk in k.saturating_sub(FIT_HALF_WIDTH)..(k + FIT_HALF_WIDTH + 1).min(m) {
+        for kk in fit {
             let t = window_transform(geo.window, kk as f32 - r, geo.samples, geo.fft_len);
             num += t.conj() * at.at(kk);
             den += t.norm_sqr();

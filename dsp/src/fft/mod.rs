@@ -9,6 +9,7 @@ mod q15;
 mod q31;
 mod reorder;
 pub(crate) mod simd;
+pub use simd::complex_mac;
 pub(crate) mod twiddle;
 
 /// Short name of the f32 complex type used for f32 spectra.

@@ -180,29 +180,13 @@ impl<'a> FrameSum<'a> {
             let Some(sums) = self.words.get(e * stride..e * stride + 2 * n) else {
                 return Err(self.arena_error());
             };
+            // The OR of the magnitudes has the largest one's top bit, which is all the shift uses.
             let peak = sums
                 .iter()
-                .map(|&w| (w as i32).unsigned_abs())
-                .max()
-                .unwrap_or(0);
+                .fold(0u32, |a, &w| a | (w as i32).unsigned_abs());
             // Normalize so the largest part lies in [2^14, 2^15).
             let shift = 32 - peak.leading_zeros() as i32 - 15;
-            for ((o, acc), &w) in row.iter_mut().zip(sums.chunks_exact(2)).zip(window) {
-                // All in i32 (no i64 on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is
-                // `(v + 2^(s−1)) >> s` without its overflow; a left shift only lifts values
-                // below 2^15 to at most 2^15.
-                let q = |v: u32| {
-                    let v = v as i32;
-                    let s = if shift > 0 {
-                        ((v >> (shift - 1)) + 1) >> 1
-                    } else {
-                        v << -shift
-                    };
-                    let s = s.clamp(i16::MIN as i32, i16::MAX as i32);
-                    Q15(((s * w.0 as i32 + (1 << 14)) >> 15) as i16)
-                };
-                *o = CQ15::new(q(acc[0]), q(acc[1]));
-            }
+            normalize(row, sums, window, shift);
             row.iter_mut().skip(n).for_each(|z| *z = CQ15::default());
             let Exponent(fe) = fft::cfft_q15(row)?;
             let _ = exps.push(shift + fe as i32);
@@ -227,14 +211,18 @@ impl<'a> FrameSum<'a> {
         for (r, &s) in rows.iter_mut().zip(spec.iter()) {
             *r = s;
         }
-        for (e, (row, &x)) in rows.chunks_exact(m).zip(&exps).enumerate() {
-            let d = (exponent - x) as u32;
-            for (o, &w) in spec
+        // Bin-major writes, one column per bin, reading each row's bin (strided).
+        let mut down: Vec<u32, MAX_CHANNELS> = Vec::new();
+        for &x in &exps {
+            let _ = down.push((exponent - x) as u32);
+        }
+        for (k, column) in spec.chunks_exact_mut(self.elements.max(1)).enumerate() {
+            for ((o, row), &d) in column
                 .iter_mut()
-                .skip(e)
-                .step_by(self.elements.max(1))
-                .zip(row)
+                .zip(rows.chunks_exact(m.max(1)))
+                .zip(&down)
             {
+                let w = row.get(k).copied().unwrap_or(0);
                 *o = if d > 0 {
                     pack(unpack(w).scale_down(d))
                 } else {
@@ -322,11 +310,77 @@ impl<'a> Spectra<'a> {
     }
 }
 
+/// Windowed Q15 samples from one element's sums (`[re, im]` word pairs): each part scaled by
+/// `2^−shift` with rounding (every part is below `2^(15 + shift)`), then multiplied by the window
+/// with rounding. Only a rounded-up maximum can reach 2^15, so one `min` keeps it in `i16`. All
+/// `i32` (no `i64` on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is `(v + 2^(s−1)) >> s`
+/// without its overflow. O(N).
+fn normalize(row: &mut [CQ15], sums: &[u32], window: &[Q15], shift: i32) {
+    let windowed = |s: i32, w: Q15| ((s * w.0 as i32 + (1 << 14)) >> 15) as i16;
+    let pairs = row.iter_mut().zip(sums.chunks_exact(2)).zip(window);
+    if shift > 0 {
+        let down = (shift - 1) as u32;
+        let q = |v: u32| ((((v as i32) >> down) + 1) >> 1).min(i16::MAX as i32);
+        for ((o, acc), &w) in pairs {
+            *o = CQ15::from_raw(windowed(q(acc[0]), w), windowed(q(acc[1]), w));
+        }
+    } else {
+        let up = (-shift) as u32;
+        for ((o, acc), &w) in pairs {
+            let q = |v: u32| (v as i32) << up;
+            *o = CQ15::from_raw(windowed(q(acc[0]), w), windowed(q(acc[1]), w));
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::window::{WindowKind, coefficient, coefficient_f64};
     use std::vec;
+
+    /// `normalize` is `round(round(v / 2^shift) · w / 2^15)` (halves up), computed here in
+    /// `i64` with floor division, for every shift a frame can need.
+    #[test]
+    fn normalize_rounds_like_i64() {
+        let mut x = 7u64;
+        for shift in -15i32..=16 {
+            let bound = 1i64 << (15 + shift);
+            let sums: vec::Vec<u32> = (0..64)
+                .map(|i| {
+                    x = x
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    let v = match i {
+                        0 => bound - 1,
+                        1 => -bound,
+                        _ => (x >> 20) as i64 % bound,
+                    };
+                    v as i32 as u32
+                })
+                .collect();
+            let window: vec::Vec<Q15> = (0..32).map(|i| Q15(32767 - 1000 * i)).collect();
+            let mut row = vec![CQ15::default(); 32];
+            normalize(&mut row, &sums, &window, shift);
+            for (i, z) in row.iter().enumerate() {
+                let q = |v: u32| {
+                    let v = v as i32 as i64;
+                    let s = if shift > 0 {
+                        (v + (1 << (shift - 1))).div_euclid(1 << shift)
+                    } else {
+                        v << -shift
+                    }
+                    .min(i16::MAX as i64);
+                    ((s * window[i].0 as i64 + (1 << 14)).div_euclid(1 << 15)) as i16
+                };
+                assert_eq!(
+                    (z.re.0, z.im.0),
+                    (q(sums[2 * i]), q(sums[2 * i + 1])),
+                    "{shift} {i}"
+                );
+            }
+        }
+    }
 
     /// The spectra equal the f64 DFT of the windowed sums, to Q15 precision of the peak.
     #[test]

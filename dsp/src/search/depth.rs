@@ -30,6 +30,10 @@ pub const FINE_STEPS_PER_BIN: usize = 4;
 pub const CANDIDATES: usize = 3;
 /// Bins on each side of a fractional bin that its interpolation uses.
 pub const INTERP_HALF_WIDTH: usize = 24;
+/// Bins one interpolation reads.
+const INTERP_WIDTH: usize = 2 * INTERP_HALF_WIDTH + 2;
+/// Fine points the refinement can visit: ±1 bin around each candidate.
+const FINE_POINTS: usize = CANDIDATES * (2 * FINE_STEPS_PER_BIN + 1);
 
 /// What the search needs to know about the radar.
 #[derive(Clone, Copy, Debug)]
@@ -242,32 +246,43 @@ fn fine_steps(bins: (f32, f32), m: usize) -> Result<usize, SearchError> {
     Ok(((hi - lo) * FINE_STEPS_PER_BIN as f32) as usize)
 }
 
-/// Beams toward each contour point over a run of bins, stored as `f32` pairs in caller-owned
-/// words (so the firmware can lend the frame arena's free words).
-struct Profiles<'w> {
-    words: &'w mut [u32],
+/// Where one direction's beams are stored and which bins they cover.
+#[derive(Clone, Copy, Debug, Default)]
+struct Row {
+    /// Index of its first beam in the storage.
+    at: usize,
+    /// Bin of its first beam.
     first: usize,
+    /// Beams (bins) in the row.
     len: usize,
 }
 
+/// Beams toward each contour direction, each over the bins its points can read, in
+/// caller-owned words (so the firmware can lend the frame arena's free words).
+struct Profiles<'w> {
+    beams: &'w mut [C32],
+    rows: [Row; MAX_CONTOUR],
+}
+
 impl Profiles<'_> {
-    /// Direction `dir`'s beams from bin `bin` to the end of the run (empty outside it), as
-    /// `[re, im]` bit pairs: the hot loops walk them with one bounds check per run.
-    fn from(&self, dir: usize, bin: usize) -> core::slice::ChunksExact<'_, u32> {
-        let row = self.words.get(2 * dir * self.len..2 * (dir + 1) * self.len);
-        let start = bin.checked_sub(self.first).map(|i| 2 * i);
-        match (row, start) {
-            (Some(row), Some(i)) => row.get(i..).unwrap_or(&[]).chunks_exact(2),
-            _ => [].chunks_exact(2),
+    /// Direction `dir`'s beams from bin `bin` to the end of its row (empty outside it).
+    fn from(&self, dir: usize, bin: usize) -> &[C32] {
+        let Some(r) = self.rows.get(dir) else {
+            return &[];
+        };
+        match (self.beams.get(r.at..r.at + r.len), bin.checked_sub(r.first)) {
+            (Some(row), Some(i)) => row.get(i..).unwrap_or(&[]),
+            _ => &[],
         }
     }
 
-    fn set(&mut self, point: usize, i: usize, z: C32) {
-        let at = 2 * (point * self.len + i);
-        if let Some([re, im]) = self.words.get_mut(at..at + 2) {
-            *re = z.re.to_bits();
-            *im = z.im.to_bits();
-        }
+    /// Direction `dir`'s first bin and whole row, to fill.
+    fn row_mut(&mut self, dir: usize) -> (usize, &mut [C32]) {
+        let r = self.rows.get(dir).copied().unwrap_or_default();
+        (
+            r.first,
+            self.beams.get_mut(r.at..r.at + r.len).unwrap_or(&mut []),
+        )
     }
 }
 
@@ -311,14 +326,12 @@ pub fn coarse_to_fine(
         libm::ceilf(bins.0) as usize,
         (libm::floorf(bins.1) as usize).min(m - 1),
     );
-    // Bins any stage reads: coarse d + offset, fine d ± 1 + rel ± the interpolation width.
-    let reach = offset(contour.depth_extent()) + 2;
-    let first = lo.saturating_sub(INTERP_HALF_WIDTH + 2);
-    let len = (hi + reach + INTERP_HALF_WIDTH + 2).min(m) - first;
     // Points in the same direction share one beam (see `Contour::snapped`).
     let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
     let mut beam_of = [0usize; MAX_CONTOUR];
-    for (slot, pt) in beam_of.iter_mut().zip(contour.points()) {
+    // Per direction: the smallest and largest coarse offset of its points.
+    let mut spread = [(usize::MAX, 0usize); MAX_CONTOUR];
+    for ((slot, pt), &(o, _)) in beam_of.iter_mut().zip(contour.points()).zip(&offsets) {
         let s = pt.sin_az;
         *slot = match dirs.iter().position(|&d| d == s) {
             Some(i) => i,
@@ -327,22 +340,42 @@ pub fn coarse_to_fine(
                 dirs.len() - 1
             }
         };
+        if let Some(r) = spread.get_mut(*slot) {
+            *r = (r.0.min(o), r.1.max(o));
+        }
     }
-    let need = 2 * dirs.len() * len;
-    let Some(words) = profiles.get_mut(..need) else {
+    // Bins a direction's points read: coarse d + o for d in lo..=hi; fine f = d + rel with
+    // |rel − o| ≤ ½ and d within ±1 of a candidate, so ⌊f⌋ ∈ [lo + o − 2, hi + o + 1], each
+    // interpolation ± the half width around it.
+    let mut rows = [Row::default(); MAX_CONTOUR];
+    let mut need = 0;
+    for (row, &(lo_o, hi_o)) in rows.iter_mut().zip(&spread).take(dirs.len()) {
+        let first = (lo + lo_o).saturating_sub(INTERP_HALF_WIDTH + 2);
+        let end = (hi + hi_o + INTERP_HALF_WIDTH + 3).min(m);
+        *row = Row {
+            at: need,
+            first,
+            len: end.saturating_sub(first),
+        };
+        need += row.len;
+    }
+    let Some(words) = profiles.get_mut(..2 * need) else {
         return Err(SearchError::Buffer {
             what: "profiles",
-            expected: need,
+            expected: 2 * need,
             got: profiles.len(),
         });
     };
-    let mut prof = Profiles { words, first, len };
+    // SAFETY: `C32` is `repr(C)` of two `f32` (8 bytes, 4-aligned, like two `u32` words) and
+    // every bit pattern is a valid `f32`; the cast slice covers exactly `words`.
+    let beams = unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast::<C32>(), need) };
+    let mut prof = Profiles { beams, rows };
     let mut macs = 0u64;
-    // 1. Beamform toward each distinct direction: U·E·len, integer.
+    // 1. Beamform toward each distinct direction over its bins: E·Σ len, integer.
     for (i, &s) in dirs.iter().enumerate() {
-        Residual::new(spectra, geo, reflectors, s)
-            .run(first, len, |b, z| prof.set(i, b - first, z));
-        macs += (e * len) as u64;
+        let (first, beams) = prof.row_mut(i);
+        macs += (e * beams.len()) as u64;
+        Residual::new(spectra, geo, reflectors, s).fill(first, beams);
     }
     // 2. Coarse scores on the bin grid.
     // Point-outer, depth-inner: each score still adds its points in contour order from 0.
@@ -353,7 +386,7 @@ pub fn coarse_to_fine(
     };
     for (&b, &(o, _)) in beam_of.iter().zip(&offsets).take(k) {
         for (p, z) in win.iter_mut().zip(prof.from(b, lo + o)) {
-            *p += C32::new(f32::from_bits(z[0]), f32::from_bits(z[1])).norm_sqr();
+            *p += z.norm_sqr();
         }
     }
     macs += (k * win.len()) as u64;
@@ -374,36 +407,61 @@ pub fn coarse_to_fine(
             }
         }
     }
-    let mut best = (f32::NEG_INFINITY, 0.0f32);
+    // The fine points within ±1 bin of each candidate (strongest first), each listed once,
+    // aligned with brute_force's grid from bins.0.
     let fine = FINE_STEPS_PER_BIN as f32;
-    let interp = Interpolator::new(geo.samples, m);
+    let mut steps: heapless::Vec<usize, FINE_POINTS> = heapless::Vec::new();
     for &(cand, _) in cands.iter().flatten() {
-        // Fine grid points within ±1 bin, aligned with brute_force's grid from bins.0.
         let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
         let to = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
         for s in from..=to {
-            let d = bins.0 + s as f32 / fine;
-            if d >= bins.1 {
+            if bins.0 + s as f32 / fine >= bins.1 {
                 break;
             }
-            let mut p = 0.0;
-            for (&beam, &(_, rel)) in beam_of.iter().zip(&offsets).take(k) {
-                let f = d + rel;
+            if !steps.contains(&s) {
+                let _ = steps.push(s);
+            }
+        }
+    }
+    // P at each of them. The weights of a point depend only on its fractional bin, which
+    // repeats every FINE_STEPS_PER_BIN steps: one row of weights serves every step of a phase.
+    let mut power = [0.0f32; FINE_POINTS];
+    let interp = Interpolator::new(geo.samples, m);
+    let mut weights = [C32::new(0.0, 0.0); INTERP_WIDTH];
+    for phase in 0..FINE_STEPS_PER_BIN {
+        for (&beam, &(_, rel)) in beam_of.iter().zip(&offsets).take(k) {
+            // Offset of the first weight's bin from the point (bins), once computed.
+            let mut row_x0 = None;
+            for (&s, p) in steps.iter().zip(power.iter_mut()) {
+                if s % FINE_STEPS_PER_BIN != phase {
+                    continue;
+                }
+                let f = bins.0 + s as f32 / fine + rel;
                 let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
-                let width = (2 * INTERP_HALF_WIDTH + 2).min(m - b0.min(m));
+                let x0 = b0 as f32 - f;
+                // Rounding moves x0 by ~1e-5 bins between steps; a clipped start moves it by 1.
+                if row_x0.is_none_or(|r: f32| libm::fabsf(r - x0) > 1e-3) {
+                    interp.for_each(f, b0, INTERP_WIDTH, |b, w| {
+                        if let Some(slot) = weights.get_mut(b - b0) {
+                            *slot = w;
+                        }
+                    });
+                    row_x0 = Some(x0);
+                }
+                let width = INTERP_WIDTH.min(m - b0.min(m));
                 let mut z = C32::new(0.0, 0.0);
-                let mut beams = prof.from(beam, b0);
-                interp.for_each(f, b0, width, |_, w| {
-                    if let Some(b) = beams.next() {
-                        z += C32::new(f32::from_bits(b[0]), f32::from_bits(b[1])) * w;
-                    }
-                });
+                for (&b, &w) in prof.from(beam, b0).iter().zip(&weights[..width]) {
+                    z += b * w;
+                }
                 macs += width as u64;
-                p += z.norm_sqr();
+                *p += z.norm_sqr();
             }
-            if p > best.0 {
-                best = (p, d);
-            }
+        }
+    }
+    let mut best = (f32::NEG_INFINITY, 0.0f32);
+    for (&s, &p) in steps.iter().zip(&power) {
+        if p > best.0 {
+            best = (p, bins.0 + s as f32 / fine);
         }
     }
     // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
