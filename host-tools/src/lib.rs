@@ -5,11 +5,14 @@
 pub mod bench;
 pub mod bundle;
 pub mod capture;
+pub mod demo;
+pub mod depth_image;
 pub mod edge;
 pub mod error;
 pub mod eval;
 pub mod fields;
 pub mod frame;
+pub mod geofence;
 pub mod geometry;
 pub mod oracle;
 pub mod process;

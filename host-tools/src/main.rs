@@ -123,9 +123,32 @@ enum Command {
         #[arg(long, value_enum, default_value = "cascade")]
         radar: host_tools::sim::radar::RadarKind,
     },
-    /// Run the main job on built-in data (for now: summarize a real TI capture from shared/).
-    #[command(after_help = "Example:\n  metamoran demo")]
+    /// The whole system on a built-in scene, no hardware: simulated radar frames into the module
+    /// (firmware under QEMU, or in-process where QEMU is absent), telemetry back, camera fusion,
+    /// perimeter alerts, operator view; outputs in one folder.
+    #[command(
+        after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json"
+    )]
     Demo {
+        /// Output folder (results.json, depth_0.png, points_0.ply, alerts.jsonl, operator.txt, …).
+        #[arg(long, default_value = "demo-out")]
+        out: PathBuf,
+        /// Where the module runs.
+        #[arg(long, value_enum, default_value = "auto")]
+        edge: host_tools::demo::DemoEdge,
+        /// Perimeter TOML (zones, restricted classes, confidence, hysteresis); default: built in.
+        #[arg(long)]
+        perimeter: Option<PathBuf>,
+        /// Print JSON instead of the operator view.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Summarize the built-in real TI capture (OpenRadar doppler_example_1) with the module's DSP.
+    #[command(
+        name = "demo-capture",
+        after_help = "Example:\n  metamoran demo-capture"
+    )]
+    DemoCapture {
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
@@ -306,7 +329,16 @@ fn run(cli: Cli) -> Result<(), String> {
             eprintln!("wrote {} bundle(s) to {}", dirs.len(), out.display());
             Ok(())
         }
-        Command::Demo { json } => {
+        Command::Demo {
+            out,
+            edge,
+            perimeter,
+            json,
+        } => print(
+            &host_tools::demo::run(&out, edge, perimeter.as_deref())?,
+            json,
+        ),
+        Command::DemoCapture { json } => {
             let capture = host_tools::shared_dir().join(DEMO_CAPTURE);
             if !capture.exists() {
                 return Err(format!(

@@ -483,7 +483,10 @@ pub fn merge(
         Some(r) if r.detected() => {
             let depth = r.depth_m();
             let points = reject_edges(shift_to_depth(&obj.points, depth));
-            ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+            ObjectResult {
+                confidence_db: Some(r.confidence as f64 / 4.0),
+                ..ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+            }
         }
         _ => ObjectResult::missed(obj),
     }

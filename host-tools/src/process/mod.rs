@@ -57,6 +57,10 @@ pub struct ObjectResult {
     pub azimuth_deg: Option<f64>,
     /// Depth image as points in the radar frame, m.
     pub points: Vec<[f64; 3]>,
+    /// The module's confidence (dB of the search peak over its floor) where the method has one;
+    /// not part of cli.md's JSON.
+    #[serde(skip)]
+    pub confidence_db: Option<f64>,
 }
 
 impl ObjectResult {
@@ -70,6 +74,7 @@ impl ObjectResult {
             depth_m: Some(mm(depth)),
             azimuth_deg: azimuth.map(|a| (a.to_degrees() * 100.0).round() / 100.0),
             points: points.iter().map(|p| [mm(p.x), mm(p.y), mm(p.z)]).collect(),
+            confidence_db: None,
         }
     }
 
@@ -82,6 +87,7 @@ impl ObjectResult {
             depth_m: None,
             azimuth_deg: None,
             points: Vec::new(),
+            confidence_db: None,
         }
     }
 }

@@ -1,0 +1,286 @@
+//! `metamoran demo`: the whole system on a built-in scene, no hardware.
+//!
+//! Simulated radar frames of a parking lot stream into the module (the firmware under QEMU when
+//! `qemu-system-arm` and the firmware sources are here, else the same `dsp` pipeline in this
+//! process, and the report says which), its results come back over the authenticated telemetry
+//! link, the host fuses them with the camera, the perimeter raises alerts, and the operator view
+//! is printed. Everything it makes goes to one folder.
+
+use crate::bundle::OpenOptions;
+use crate::depth_image::{kitti_depth, write_ply, write_png16};
+use crate::geofence::{Alert, Geofence, Perimeter};
+use crate::geometry::CameraModel;
+use crate::process::{EdgeKind, Mode, ProcessOutput, process_logged};
+use crate::sim::{layout::Preset, radar::RadarKind};
+use clap::ValueEnum;
+use serde::Serialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// The built-in scene: a cascade-radar parking lot with a car and a person about 40 m out.
+pub const SCENE: (Preset, RadarKind, u64) = (Preset::ParkingLot, RadarKind::Cascade, 3);
+
+/// The built-in perimeter, written to `OUT/perimeter.toml` when none is given.
+pub const PERIMETER: &str = r#"# Perimeter for `metamoran demo` (see README, "Geofencing").
+restricted_classes = ["person", "car"]
+min_confidence_db = 6.0
+hysteresis_m = 1.0
+
+[[zone]]
+name = "far lot"
+polygon = [[-10.0, 30.0], [20.0, 30.0], [20.0, 55.0], [-10.0, 55.0]]
+
+[[zone]]
+name = "gate"
+polygon = [[-4.0, 2.0], [4.0, 2.0], [4.0, 12.0], [-4.0, 12.0]]
+"#;
+
+/// Where the module runs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum DemoEdge {
+    /// QEMU if it is installed and the firmware builds, else in this process.
+    #[default]
+    Auto,
+    /// The firmware under QEMU (an error if it cannot run).
+    Qemu,
+    /// The `dsp` pipeline in this process.
+    InProcess,
+}
+
+/// One object as the operator sees it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Track {
+    /// Instance id.
+    pub instance: u16,
+    /// Class.
+    pub class: String,
+    /// Depth, m (`None`: not detected).
+    pub depth_m: Option<f64>,
+    /// Azimuth, degrees.
+    pub azimuth_deg: Option<f64>,
+    /// Confidence, dB over the search floor.
+    pub confidence_db: Option<f64>,
+    /// Zones it is in.
+    pub zones: Vec<String>,
+}
+
+/// What the demo did and made.
+#[derive(Clone, Debug, Serialize)]
+pub struct DemoReport {
+    /// Output folder.
+    pub out: PathBuf,
+    /// Where the module ran, in words.
+    pub edge: String,
+    /// Objects of the last frame.
+    pub tracks: Vec<Track>,
+    /// Every alert, in order.
+    pub alerts: Vec<Alert>,
+    /// Link health from the module (QEMU only): frames and faults it counted.
+    pub link: Option<String>,
+    /// Files written, relative to `out`.
+    pub files: Vec<String>,
+}
+
+impl fmt::Display for DemoReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "metamoran demo: built-in parking-lot scene, module {}",
+            self.edge
+        )?;
+        writeln!(
+            f,
+            "\n{:>4}  {:<7} {:>9} {:>8} {:>8}  zones",
+            "id", "class", "depth m", "az °", "conf dB"
+        )?;
+        for t in &self.tracks {
+            let opt = |v: Option<f64>, p: usize| v.map_or("—".into(), |v| format!("{v:.p$}"));
+            writeln!(
+                f,
+                "{:>4}  {:<7} {:>9} {:>8} {:>8}  {}",
+                t.instance,
+                t.class,
+                opt(t.depth_m, 2),
+                opt(t.azimuth_deg, 1),
+                opt(t.confidence_db, 1),
+                if t.zones.is_empty() {
+                    "—".into()
+                } else {
+                    t.zones.join(", ")
+                }
+            )?;
+        }
+        writeln!(f, "\nalerts:")?;
+        if self.alerts.is_empty() {
+            writeln!(f, "  none")?;
+        }
+        for a in &self.alerts {
+            writeln!(
+                f,
+                "  t={:.1} s frame {}: {:?} {} #{} {} at {:.2} m, {:+.1}°",
+                a.time_s, a.frame, a.kind, a.class, a.instance, a.zone, a.depth_m, a.azimuth_deg
+            )?;
+        }
+        if let Some(l) = &self.link {
+            writeln!(f, "\nlink: {l}")?;
+        }
+        writeln!(f, "\noutputs in {}:", self.out.display())?;
+        for file in &self.files {
+            writeln!(f, "  {file}")?;
+        }
+        Ok(())
+    }
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
+}
+
+/// Runs the demo into `out` (created; its earlier demo files are replaced).
+///
+/// # Errors
+/// A message saying what failed and what to do.
+pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoReport, String> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
+    let perimeter_file = out.join("perimeter.toml");
+    let perimeter = match perimeter {
+        Some(p) => {
+            let loaded = Perimeter::load(p)?;
+            std::fs::copy(p, &perimeter_file)
+                .map_err(|e| format!("{}: cannot copy ({e})", perimeter_file.display()))?;
+            loaded
+        }
+        None => {
+            write(&perimeter_file, PERIMETER.as_bytes())?;
+            Perimeter::parse(PERIMETER)?
+        }
+    };
+    let scenes = out.join("scene");
+    if scenes.exists() {
+        std::fs::remove_dir_all(&scenes)
+            .map_err(|e| format!("{}: cannot replace ({e})", scenes.display()))?;
+    }
+    let (preset, radar, seed) = SCENE;
+    let dirs = crate::sim::simulate(preset, radar, seed, 1, &scenes, false)?;
+    let bundle = dirs.first().ok_or("the simulator wrote no scene")?;
+
+    let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
+    let opts = OpenOptions::default();
+    let qemu_here = std::process::Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    let run_on = |kind| process_logged(bundle, Mode::Metamoran, opts, kind, key.clone());
+    let ((output, log), edge_words) = match edge {
+        DemoEdge::InProcess => (run_on(EdgeKind::InProcess)?, "in this process (--edge in-process)".to_owned()),
+        DemoEdge::Qemu => (run_on(EdgeKind::Qemu)?, "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned()),
+        DemoEdge::Auto if qemu_here => match run_on(EdgeKind::Qemu) {
+            Ok(r) => (r, "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned()),
+            Err(e) => (
+                run_on(EdgeKind::InProcess)?,
+                format!("in this process: QEMU could not run the firmware ({e})"),
+            ),
+        },
+        DemoEdge::Auto => (
+            run_on(EdgeKind::InProcess)?,
+            "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)"
+                .to_owned(),
+        ),
+    };
+
+    let mut fence = Geofence::new(perimeter);
+    let mut alerts = Vec::new();
+    let period = crate::bundle::Bundle::open(bundle, opts)
+        .map(|b| b.scene.radar.frame_period_s)
+        .unwrap_or(0.1);
+    for f in &output.frames {
+        alerts.extend(fence.update(f.frame, f.frame as f64 * period, &f.objects));
+    }
+    let tracks = output
+        .frames
+        .last()
+        .map(|f| {
+            f.objects
+                .iter()
+                .map(|o| Track {
+                    instance: o.instance,
+                    class: o.class.clone(),
+                    depth_m: o.depth_m,
+                    azimuth_deg: o.azimuth_deg,
+                    confidence_db: o.confidence_db,
+                    zones: fence
+                        .zones_of(o.instance)
+                        .into_iter()
+                        .map(String::from)
+                        .collect(),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+
+    let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
+    files.extend(write_outputs(out, bundle, &output)?);
+    let alert_lines: String = alerts
+        .iter()
+        .map(|a| serde_json::to_string(a).unwrap_or_default() + "\n")
+        .collect();
+    write(&out.join("alerts.jsonl"), alert_lines.as_bytes())?;
+    files.push("alerts.jsonl".into());
+    let link = log.map(|l| {
+        let h = &l.health;
+        format!(
+            "module counted {} frames; its link accepted {}, rejected {} bad tags and {} replays, \
+             saw {} lost and {} reordered frames; {} capture, {} pipeline, {} protocol errors; \
+             {} queued messages dropped; stack high-water {} B",
+            h.frames,
+            h.link.accepted,
+            h.link.bad_tag,
+            h.link.replayed,
+            h.link.lost,
+            h.link.reordered,
+            h.capture_errors,
+            h.pipeline_errors,
+            h.protocol_errors,
+            h.queue_dropped,
+            h.stack_bytes
+        )
+    });
+    let mut report = DemoReport {
+        out: out.to_path_buf(),
+        edge: edge_words,
+        tracks,
+        alerts,
+        link,
+        files,
+    };
+    report.files.push("operator.txt".into());
+    write(&out.join("operator.txt"), report.to_string().as_bytes())?;
+    Ok(report)
+}
+
+/// `results.json` (cli.md's shape) and, per frame, `depth_F.png` (KITTI) and `points_F.ply`.
+///
+/// # Errors
+/// A message naming the file that could not be written.
+pub fn write_outputs(
+    out: &Path,
+    bundle: &Path,
+    output: &ProcessOutput,
+) -> Result<Vec<String>, String> {
+    let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
+    write(&out.join("results.json"), &json)?;
+    let mut files = vec!["results.json".to_owned()];
+    let scene =
+        crate::bundle::Bundle::open(bundle, OpenOptions::default()).map_err(|e| e.to_string())?;
+    let camera = CameraModel::new(&scene.scene.camera);
+    for f in &output.frames {
+        let img = kitti_depth(&camera, f);
+        let png = format!("depth_{}.png", f.frame);
+        write_png16(&out.join(&png), camera.width, camera.height, &img)?;
+        let ply = format!("points_{}.ply", f.frame);
+        write_ply(&out.join(&ply), f)?;
+        files.extend([png, ply]);
+    }
+    Ok(files)
+}

@@ -1,0 +1,128 @@
+//! `metamoran demo`: the whole system on the built-in scene. Checked against the scene's truth,
+//! not against the code's own output: the objects inside the built-in perimeter's zones (by the
+//! truth positions) must raise exactly those alerts, and the KITTI depth PNG, decoded by the `png`
+//! decoder, must hold the objects' true camera depths.
+
+use host_tools::demo::{DemoEdge, run};
+use host_tools::geofence::{AlertKind, Perimeter, signed_distance};
+use metamoran_e2e::{oracles_required, qemu_available};
+
+#[test]
+fn demo_alerts_images_and_points_match_the_truth() {
+    let edge = if qemu_available() {
+        DemoEdge::Qemu
+    } else {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        DemoEdge::InProcess
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let report = run(&out, edge, None).unwrap();
+    // Safe to run twice into the same folder.
+    let again = run(&out, DemoEdge::InProcess, None).unwrap();
+    assert_eq!(again.alerts, report.alerts, "the in-process edge disagrees");
+
+    let scene = std::fs::read_dir(out.join("scene"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let truth: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scene.join("truth.json")).unwrap()).unwrap();
+    let objects = truth["frames"][0]["objects"].as_array().unwrap();
+    assert!(objects.len() >= 2);
+    let perimeter = Perimeter::load(&out.join("perimeter.toml")).unwrap();
+    // Expected alerts from the truth positions (restricted classes, strictly inside a zone).
+    let mut expected = Vec::new();
+    for o in objects {
+        let (d, az) = (
+            o["depth_m"].as_f64().unwrap(),
+            o["azimuth_deg"].as_f64().unwrap().to_radians(),
+        );
+        let class = o["class"].as_str().unwrap();
+        for z in &perimeter.zones {
+            let inside = signed_distance(&z.polygon, [d * az.sin(), d * az.cos()]);
+            assert!(inside.abs() > 0.5, "truth too near a border to test");
+            if inside > 0.0 && perimeter.restricted_classes.iter().any(|c| c == class) {
+                expected.push((o["instance"].as_u64().unwrap() as u16, z.name.clone()));
+            }
+        }
+    }
+    assert!(!expected.is_empty());
+    let got: Vec<_> = report
+        .alerts
+        .iter()
+        .map(|a| (a.instance, a.zone.clone()))
+        .collect();
+    assert_eq!(got, expected);
+    assert!(report.alerts.iter().all(|a| a.kind == AlertKind::Enter));
+    for a in &report.alerts {
+        let t = objects
+            .iter()
+            .find(|o| o["instance"] == a.instance)
+            .unwrap();
+        assert!(
+            (a.depth_m - t["depth_m"].as_f64().unwrap()).abs() < 1.0,
+            "{a:?}"
+        );
+    }
+
+    // The depth PNG: 16-bit grey, KITTI scale; each object's pixels near its true depth.
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(out.join("depth_0.png")).unwrap(),
+    ));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0u8; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(
+        (info.color_type, info.bit_depth),
+        (png::ColorType::Grayscale, png::BitDepth::Sixteen)
+    );
+    let depths: Vec<f64> = buf[..info.buffer_size()]
+        .chunks_exact(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]) as f64 / 256.0)
+        .filter(|&d| d > 0.0)
+        .collect();
+    assert!(depths.len() > 50, "{} valid pixels", depths.len());
+    let nearest = objects
+        .iter()
+        .map(|o| o["depth_m"].as_f64().unwrap())
+        .fold(f64::MAX, f64::min);
+    let farthest = objects
+        .iter()
+        .map(|o| o["depth_m"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    // Camera depth is range × cos(azimuth) (the camera sits at the radar, facing forward); a few
+    // mask-edge pixels of the fusion keep background depths, so 95% rather than all.
+    let within = depths
+        .iter()
+        .filter(|&&d| d > 0.9 * nearest - 1.0 && d < farthest + 5.0)
+        .count();
+    assert!(
+        within as f64 >= 0.95 * depths.len() as f64,
+        "{within} of {} pixels within the objects' depths",
+        depths.len()
+    );
+
+    // The PLY holds every point of results.json.
+    let results: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let n: usize = results["frames"][0]["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["points"].as_array().unwrap().len())
+        .sum();
+    let ply = std::fs::read_to_string(out.join("points_0.ply")).unwrap();
+    assert!(ply.contains(&format!("element vertex {n}\n")));
+    assert_eq!(
+        ply.lines().skip_while(|l| *l != "end_header").count() - 1,
+        n
+    );
+    assert!(
+        std::fs::read_to_string(out.join("operator.txt"))
+            .unwrap()
+            .contains("far lot")
+    );
+}
