@@ -78,6 +78,18 @@ mod imp {
         smlaldx = "smlaldx";
     }
 
+    /// One pair of elements: two `LDRD`s (post-incremented) and four dual MACs.
+    macro_rules! mac_pair {
+        () => {
+            "ldrd {x0}, {x1}, [{xp}], #8\n\
+             ldrd {w0}, {w1}, [{wp}], #8\n\
+             smlsld {rl}, {rh}, {x0}, {w0}\n\
+             smlaldx {il}, {ih}, {x0}, {w0}\n\
+             smlsld {rl}, {rh}, {x1}, {w1}\n\
+             smlaldx {il}, {ih}, {x1}, {w1}"
+        };
+    }
+
     /// `Σ (smlsld, smlaldx)` over the first `2·pairs` words of `x` and `w` (callers check the
     /// lengths): two `LDRD`s and four MACs per pair. The main loop takes four pairs per turn
     /// (3.5 instructions per element); a one-pair loop takes the rest.
@@ -96,30 +108,10 @@ mod imp {
             unsafe {
                 asm!(
                     "2:",
-                    "ldrd {x0}, {x1}, [{xp}], #8",
-                    "ldrd {w0}, {w1}, [{wp}], #8",
-                    "smlsld {rl}, {rh}, {x0}, {w0}",
-                    "smlaldx {il}, {ih}, {x0}, {w0}",
-                    "smlsld {rl}, {rh}, {x1}, {w1}",
-                    "smlaldx {il}, {ih}, {x1}, {w1}",
-                    "ldrd {x0}, {x1}, [{xp}], #8",
-                    "ldrd {w0}, {w1}, [{wp}], #8",
-                    "smlsld {rl}, {rh}, {x0}, {w0}",
-                    "smlaldx {il}, {ih}, {x0}, {w0}",
-                    "smlsld {rl}, {rh}, {x1}, {w1}",
-                    "smlaldx {il}, {ih}, {x1}, {w1}",
-                    "ldrd {x0}, {x1}, [{xp}], #8",
-                    "ldrd {w0}, {w1}, [{wp}], #8",
-                    "smlsld {rl}, {rh}, {x0}, {w0}",
-                    "smlaldx {il}, {ih}, {x0}, {w0}",
-                    "smlsld {rl}, {rh}, {x1}, {w1}",
-                    "smlaldx {il}, {ih}, {x1}, {w1}",
-                    "ldrd {x0}, {x1}, [{xp}], #8",
-                    "ldrd {w0}, {w1}, [{wp}], #8",
-                    "smlsld {rl}, {rh}, {x0}, {w0}",
-                    "smlaldx {il}, {ih}, {x0}, {w0}",
-                    "smlsld {rl}, {rh}, {x1}, {w1}",
-                    "smlaldx {il}, {ih}, {x1}, {w1}",
+                    mac_pair!(),
+                    mac_pair!(),
+                    mac_pair!(),
+                    mac_pair!(),
                     "subs {n}, {n}, #1",
                     "bne 2b",
                     xp = inout(reg) xp,
@@ -136,12 +128,7 @@ mod imp {
             unsafe {
                 asm!(
                     "2:",
-                    "ldrd {x0}, {x1}, [{xp}], #8",
-                    "ldrd {w0}, {w1}, [{wp}], #8",
-                    "smlsld {rl}, {rh}, {x0}, {w0}",
-                    "smlaldx {il}, {ih}, {x0}, {w0}",
-                    "smlsld {rl}, {rh}, {x1}, {w1}",
-                    "smlaldx {il}, {ih}, {x1}, {w1}",
+                    mac_pair!(),
                     "subs {n}, {n}, #1",
                     "bne 2b",
                     xp = inout(reg) xp => _,
