@@ -30,8 +30,5 @@ pub fn top_k(x: &[f32], k: usize) -> Vec<usize> {
 
 /// Whether `qemu-system-arm` runs on this machine.
 pub fn qemu_available() -> bool {
-    std::process::Command::new("qemu-system-arm")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success())
+    host_tools::qemu::available()
 }

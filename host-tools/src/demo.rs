@@ -167,10 +167,7 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
 
     let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
     let opts = OpenOptions::default();
-    let qemu_here = std::process::Command::new("qemu-system-arm")
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
+    let qemu_here = crate::qemu::available();
     let run_on = |kind| process_logged(bundle, Mode::Metamoran, opts, kind, key.clone());
     let ((output, log), edge_words) = match edge {
         DemoEdge::InProcess => (run_on(EdgeKind::InProcess)?, "in this process (--edge in-process)".to_owned()),
@@ -191,9 +188,11 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
 
     let mut fence = Geofence::new(perimeter);
     let mut alerts = Vec::new();
-    let period = crate::bundle::Bundle::open(bundle, opts)
-        .map(|b| b.scene.radar.frame_period_s)
-        .unwrap_or(0.1);
+    // The bundle the module just processed: its frame period and camera.
+    let scene = crate::bundle::Bundle::open(bundle, opts)
+        .map_err(|e| e.to_string())?
+        .scene;
+    let period = scene.radar.frame_period_s;
     for f in &output.frames {
         alerts.extend(fence.update(f.frame, f.frame as f64 * period, &f.objects));
     }
@@ -220,7 +219,11 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
         .unwrap_or_default();
 
     let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
-    files.extend(write_outputs(out, bundle, &output)?);
+    files.extend(write_outputs(
+        out,
+        &CameraModel::new(&scene.camera),
+        &output,
+    )?);
     let alert_lines: String = alerts
         .iter()
         .map(|a| serde_json::to_string(a).unwrap_or_default() + "\n")
@@ -259,23 +262,21 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
     Ok(report)
 }
 
-/// `results.json` (cli.md's shape) and, per frame, `depth_F.png` (KITTI) and `points_F.ply`.
+/// `results.json` (cli.md's shape) and, per frame, `depth_F.png` (KITTI, through `camera`) and
+/// `points_F.ply`.
 ///
 /// # Errors
 /// A message naming the file that could not be written.
 pub fn write_outputs(
     out: &Path,
-    bundle: &Path,
+    camera: &CameraModel,
     output: &ProcessOutput,
 ) -> Result<Vec<String>, String> {
     let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
     write(&out.join("results.json"), &json)?;
     let mut files = vec!["results.json".to_owned()];
-    let scene =
-        crate::bundle::Bundle::open(bundle, OpenOptions::default()).map_err(|e| e.to_string())?;
-    let camera = CameraModel::new(&scene.scene.camera);
     for f in &output.frames {
-        let img = kitti_depth(&camera, f);
+        let img = kitti_depth(camera, f);
         let png = format!("depth_{}.png", f.frame);
         write_png16(&out.join(&png), camera.width, camera.height, &img)?;
         let ply = format!("points_{}.ply", f.frame);

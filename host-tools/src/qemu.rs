@@ -10,6 +10,14 @@ use std::time::Duration;
 /// The embedded target.
 pub const TARGET: &str = "thumbv7em-none-eabihf";
 
+/// Whether `qemu-system-arm` runs on this machine.
+pub fn available() -> bool {
+    Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
 /// The firmware workspace folder.
 pub fn firmware_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../firmware")
