@@ -1,7 +1,7 @@
 //! FFT accuracy against an independent f64 reference (rustfft in double precision) on the same
 //! quantized input: complex uniform noise, each component uniform in ±10^(dBFS/20) of full scale.
 
-use dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
+use dsp::fft::{Complex32, bit_reversed, cfft_f32, cfft_q15, cfft_q15_bit_reversed, cfft_q31};
 use dsp::fixed::{CQ15, CQ31, Complex};
 use rustfft::{FftPlanner, num_complex::Complex64};
 
@@ -190,4 +190,28 @@ fn unsupported_lengths_are_errors() {
         let mut f = vec![Complex32::new(0.0, 0.0); n];
         assert!(cfft_f32(&mut f).is_err(), "n={n}");
     }
+}
+
+#[test]
+fn bit_reversed_output_is_the_natural_spectrum_reindexed() {
+    // Index reversal against its definition on the binary digits, then the transform.
+    for bits in 4..=11u32 {
+        let n = 1usize << bits;
+        for k in 0..n {
+            let digits: usize = (0..bits).map(|b| ((k >> b) & 1) << (bits - 1 - b)).sum();
+            assert_eq!(bit_reversed(k, n), digits, "n={n} k={k}");
+        }
+        let mut noise = Noise(n as u64);
+        let natural: Vec<CQ15> = (0..n)
+            .map(|_| CQ15::from_f32(0.9 * noise.next() as f32, 0.9 * noise.next() as f32))
+            .collect();
+        let (mut a, mut b) = (natural.clone(), natural);
+        let ea = cfft_q15(&mut a).unwrap();
+        let eb = cfft_q15_bit_reversed(&mut b).unwrap();
+        assert_eq!(ea, eb, "n={n}");
+        for k in 0..n {
+            assert_eq!(a[k], b[bit_reversed(k, n)], "n={n} k={k}");
+        }
+    }
+    assert!(cfft_q15_bit_reversed(&mut [CQ15::default(); 24]).is_err());
 }

@@ -195,7 +195,49 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
         hash: h.0,
     });
 
+    emit(frame_sum_workload());
+
     emit(search_workload());
+}
+
+/// Frame sums at every chirp length 1..=9 (the widening loop's pairs and odd word), two
+/// elements, three full-scale noise chirps each, then the in-place range spectra.
+fn frame_sum_workload() -> Outcome {
+    use dsp::range::FrameSum;
+    let mut h = Fnv::default();
+    let mut exponents = 0u32;
+    let mut chirp = [CQ15::default(); 9];
+    for n in 1..=9usize {
+        let mut arena = [0u32; FrameSum::words_needed(2, 9, 16)];
+        let Ok(mut frame) = FrameSum::new(&mut arena, 2, n, 16) else {
+            h.u32(u32::MAX);
+            continue;
+        };
+        for row in 0..6u32 {
+            noise_q15(100 + 10 * n as u32 + row, Q15(32767), &mut chirp[..n]);
+            if frame.add(row as usize % 2, &chirp[..n]).is_err() {
+                h.u32(u32::MAX - 1);
+            }
+        }
+        let mut scratch = [CQ15::default(); 16];
+        let window = [Q15(32767); 9];
+        match frame.finish(&window[..n], &mut scratch) {
+            Ok((spectra, _)) => {
+                exponents = exponents
+                    .wrapping_mul(31)
+                    .wrapping_add(spectra.exponent() as u32);
+                for k in 0..spectra.bins() {
+                    spectra.column(k).iter().for_each(|&w| h.u32(w));
+                }
+            }
+            Err(_) => h.u32(u32::MAX - 2),
+        }
+    }
+    Outcome {
+        name: "frame_sum_1_to_9",
+        exponent: exponents,
+        hash: h.0,
+    }
 }
 
 /// The module pipeline (`dsp::pipeline`: frame sums, in-place range spectra, peak scan, SIC,

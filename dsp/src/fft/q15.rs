@@ -16,18 +16,11 @@
 use super::reorder::bit_reverse;
 use super::simd::{add, add_j, rotate, shadd16, sub, sub_j};
 use super::twiddle::{TABLE_LEN, TWIDDLE_Q15};
-use crate::fixed::CQ15;
-
-/// The buffer as packed words (`re` in the low half).
-fn words_mut(buf: &mut [CQ15]) -> &mut [u32] {
-    // SAFETY: `CQ15` is `repr(C, align(4))` of two `i16`: 4 bytes, 4-aligned, and every bit
-    // pattern is valid both ways, so the memory is a valid `[u32]` of the same length.
-    unsafe { core::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<u32>(), buf.len()) }
-}
+use crate::fixed::{CQ15, words_mut};
 
 /// The twiddle table as packed words.
 fn twiddle_words() -> &'static [u32; TABLE_LEN] {
-    // SAFETY: as in `words_mut`; the table is `[CQ15; TABLE_LEN]`.
+    // SAFETY: as in `crate::fixed::words`; the table is `[CQ15; TABLE_LEN]`.
     unsafe { &*TWIDDLE_Q15.as_ptr().cast::<[u32; TABLE_LEN]>() }
 }
 
@@ -46,6 +39,13 @@ fn bound_bits(acc: u32) -> u32 {
 /// Forward FFT in place; `buf.len()` is a power of two in `16..=2048` (checked by the caller).
 /// Returns the block exponent.
 pub fn fft_in_place(buf: &mut [CQ15]) -> u32 {
+    let exponent = fft_bit_reversed(buf);
+    bit_reverse(buf);
+    exponent
+}
+
+/// [`fft_in_place`] without the closing reorder: bin `k` is left at index `rev(k)`.
+pub fn fft_bit_reversed(buf: &mut [CQ15]) -> u32 {
     let words = words_mut(buf);
     let n = words.len();
     let mut acc = words.iter().fold(0, |a, &w| a | bound(w));
@@ -76,7 +76,6 @@ pub fn fft_in_place(buf: &mut [CQ15]) -> u32 {
             radix2_pass::<false>(words)
         }
     }
-    bit_reverse(words);
     exponent
 }
 

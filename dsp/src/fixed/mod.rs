@@ -59,3 +59,17 @@ pub use q31::Q31;
 pub type CQ15 = Complex<Q15>;
 /// A complex Q31 sample (8 bytes).
 pub type CQ31 = Complex<Q31>;
+
+/// Complex Q15 values as packed words, real part in the low half (the layout of
+/// [`crate::range::frame_sum::pack`]): one 32-bit load per value for the M7's SIMD. O(1).
+pub fn words(buf: &[CQ15]) -> &[u32] {
+    // SAFETY: `CQ15` is `repr(C, align(4))` of two `i16`: 4 bytes, 4-aligned, and every bit
+    // pattern is valid both ways, so the memory is a valid `[u32]` of the same length.
+    unsafe { core::slice::from_raw_parts(buf.as_ptr().cast::<u32>(), buf.len()) }
+}
+
+/// [`words`], mutable.
+pub fn words_mut(buf: &mut [CQ15]) -> &mut [u32] {
+    // SAFETY: as in `words`.
+    unsafe { core::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<u32>(), buf.len()) }
+}

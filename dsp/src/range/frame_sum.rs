@@ -37,7 +37,13 @@ pub struct FrameSum<'a> {
     elements: usize,
     n: usize,
     m: usize,
+    /// Chirps added so far (saturates).
+    rows: u32,
 }
+
+/// Chirps a frame may add before its sums need saturating additions: no element can then hold
+/// more than this many, and `65_535 · 2¹⁵ < 2³¹`, so the plain `i32` sums are exact.
+const EXACT_ROWS: u32 = 65_535;
 
 /// A frame's range spectra: `elements × M` Q15 values, all scaled by `2^exponent` (input LSB
 /// units, windowed).
@@ -108,6 +114,7 @@ impl<'a> FrameSum<'a> {
             elements,
             n,
             m,
+            rows: 0,
         })
     }
 
@@ -121,7 +128,9 @@ impl<'a> FrameSum<'a> {
         }
     }
 
-    /// Adds one chirp of one channel into its element's sums (saturating). O(N).
+    /// Adds one chirp of one channel into its element's sums (saturating). O(N): on the M7 the
+    /// first [`EXACT_ROWS`] chirps of a frame take five instructions per sample
+    /// (`fft::simd::widen_add`), since no sum can overflow yet; later ones saturate.
     ///
     /// # Errors
     /// [`RangeError`] for an element out of range or a wrong sample count.
@@ -143,10 +152,15 @@ impl<'a> FrameSum<'a> {
         let Some(row) = self.words.get_mut(start..start + 2 * self.n) else {
             return Err(self.arena_error());
         };
-        for (acc, z) in row.chunks_exact_mut(2).zip(chirp) {
-            acc[0] = (acc[0] as i32).saturating_add(z.re.0 as i32) as u32;
-            acc[1] = (acc[1] as i32).saturating_add(z.im.0 as i32) as u32;
+        if self.rows < EXACT_ROWS {
+            fft::simd::widen_add(row, crate::fixed::words(chirp));
+        } else {
+            for (acc, z) in row.chunks_exact_mut(2).zip(chirp) {
+                acc[0] = (acc[0] as i32).saturating_add(z.re.0 as i32) as u32;
+                acc[1] = (acc[1] as i32).saturating_add(z.im.0 as i32) as u32;
+            }
         }
+        self.rows = self.rows.saturating_add(1);
         Ok(())
     }
 
@@ -180,21 +194,18 @@ impl<'a> FrameSum<'a> {
             let Some(sums) = self.words.get(e * stride..e * stride + 2 * n) else {
                 return Err(self.arena_error());
             };
-            // The OR of the magnitudes has the largest one's top bit, which is all the shift uses.
-            let peak = sums
-                .iter()
-                .fold(0u32, |a, &w| a | (w as i32).unsigned_abs());
-            // Normalize so the largest part lies in [2^14, 2^15).
-            let shift = 32 - peak.leading_zeros() as i32 - 15;
+            let shift = normalizing_shift(sums);
             normalize(row, sums, window, shift);
             row.iter_mut().skip(n).for_each(|z| *z = CQ15::default());
-            let Exponent(fe) = fft::cfft_q15(row)?;
+            // Reordered on the copy out, not in place.
+            let Exponent(fe) = fft::cfft_q15_bit_reversed(row)?;
             let _ = exps.push(shift + fe as i32);
             let Some(out) = self.words.get_mut(e * m..(e + 1) * m) else {
                 return Err(self.arena_error());
             };
-            for (w, z) in out.iter_mut().zip(row.iter()) {
-                *w = pack(*z);
+            let row = crate::fixed::words(row);
+            for (k, w) in out.iter_mut().enumerate() {
+                *w = row.get(fft::bit_reversed(k, m)).copied().unwrap_or(0);
             }
         }
         let exponent = exps.iter().copied().max().unwrap_or(0);
@@ -315,12 +326,22 @@ impl<'a> Spectra<'a> {
 /// with rounding. Only a rounded-up maximum can reach 2^15, so one `min` keeps it in `i16`. All
 /// `i32` (no `i64` on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is `(v + 2^(s−1)) >> s`
 /// without its overflow. O(N).
+/// The smallest `shift ≥ −15` with every sum in `[−2^(15 + shift), 2^(15 + shift))`.
+///
+/// `v ^ (v << 1)` has its top bit at `t` for `v` in `[−2^t, 2^t)` (where the sign bit's run
+/// ends), so the OR over the sums bounds them all: two instructions a word.
+fn normalizing_shift(sums: &[u32]) -> i32 {
+    let bound = sums.iter().fold(0u32, |a, &w| a | (w ^ (w << 1)));
+    (16 - bound.leading_zeros() as i32).max(-15) // t − 15 = (31 − clz) − 15
+}
+
 fn normalize(row: &mut [CQ15], sums: &[u32], window: &[Q15], shift: i32) {
     let windowed = |s: i32, w: Q15| ((s * w.0 as i32 + (1 << 14)) >> 15) as i16;
     let pairs = row.iter_mut().zip(sums.chunks_exact(2)).zip(window);
     if shift > 0 {
         let down = (shift - 1) as u32;
-        let q = |v: u32| ((((v as i32) >> down) + 1) >> 1).min(i16::MAX as i32);
+        // Rounding can reach 2^15 only upward; the clamp is one `SSAT`.
+        let q = |v: u32| ((((v as i32) >> down) + 1) >> 1).clamp(i16::MIN as i32, i16::MAX as i32);
         for ((o, acc), &w) in pairs {
             *o = CQ15::from_raw(windowed(q(acc[0]), w), windowed(q(acc[1]), w));
         }
@@ -338,6 +359,36 @@ mod tests {
     use super::*;
     use crate::window::{WindowKind, coefficient, coefficient_f64};
     use std::vec;
+
+    #[test]
+    fn normalizing_shift_is_the_tightest() {
+        let fits = |v: &[u32], s: i32| {
+            let b = 1i64 << (15 + s);
+            v.iter().all(|&w| (-b..b).contains(&(w as i32 as i64)))
+        };
+        let mut x = 3u64;
+        for len in [0usize, 1, 2, 7] {
+            for _ in 0..2000 {
+                let v: vec::Vec<u32> = (0..len)
+                    .map(|_| {
+                        x = x
+                            .wrapping_mul(6364136223846793005)
+                            .wrapping_add(1442695040888963407);
+                        // Random magnitudes, powers of two and their negatives included.
+                        let m = (x >> 59) as u32;
+                        match (x >> 56) & 3 {
+                            0 => 1u32 << m.min(30),
+                            1 => (1u32 << m.min(30)).wrapping_neg(),
+                            _ => ((x >> 20) as i32 >> m) as u32,
+                        }
+                    })
+                    .collect();
+                let s = normalizing_shift(&v);
+                assert!(fits(&v, s), "{v:?} shift {s}");
+                assert!(s == -15 || !fits(&v, s - 1), "{v:?} shift {s} not tight");
+            }
+        }
+    }
 
     /// `normalize` is `round(round(v / 2^shift) · w / 2^15)` (halves up), computed here in
     /// `i64` with floor division, for every shift a frame can need.
@@ -444,5 +495,39 @@ mod tests {
         let mut s = FrameSum::new(&mut words, 2, 8, 16).unwrap();
         assert!(s.add(2, &[CQ15::default(); 8]).is_err());
         assert!(s.add(0, &[CQ15::default(); 7]).is_err());
+    }
+
+    #[test]
+    fn sums_are_exact_then_saturate() {
+        // Extreme samples into one element: the i64 sums until they leave i32, then the bounds.
+        let (n, m) = (4usize, 16usize);
+        let mut words = vec![0u32; FrameSum::words_needed(2, n, m)];
+        let mut s = FrameSum::new(&mut words, 2, n, m).unwrap();
+        let chirp = [
+            CQ15::from_raw(i16::MAX, i16::MIN),
+            CQ15::from_raw(i16::MIN, 1),
+            CQ15::from_raw(-1, i16::MAX),
+            CQ15::from_raw(0, 0),
+        ];
+        let rows = 2 * EXACT_ROWS as i64 + 3;
+        for r in 0..rows {
+            s.add(0, &chirp).unwrap();
+            if r == EXACT_ROWS as i64 - 1 || r == rows - 1 {
+                for (i, z) in chirp.iter().enumerate() {
+                    let want =
+                        |x: i16| (x as i64 * (r + 1)).clamp(i32::MIN as i64, i32::MAX as i64);
+                    assert_eq!(s.words[2 * i] as i32 as i64, want(z.re.0), "row {r} re {i}");
+                    assert_eq!(
+                        s.words[2 * i + 1] as i32 as i64,
+                        want(z.im.0),
+                        "row {r} im {i}"
+                    );
+                }
+            }
+        }
+        assert!(
+            2 * EXACT_ROWS as i64 * 32768 > i32::MAX as i64,
+            "the test reaches saturation"
+        );
     }
 }
