@@ -316,16 +316,18 @@ impl<'a> Spectra<'a> {
     /// Bin `k` of every element, as packed words (empty beyond the spectrum). Contiguous.
     #[inline]
     pub fn column(&self, k: usize) -> &[u32] {
-        let e = self.elements;
-        self.words.get(k * e..(k + 1) * e).unwrap_or(&[])
+        self.columns(k..k + 1)
+    }
+
+    /// Bins `bins` (clipped to the spectrum) of every element, bin after bin: one contiguous
+    /// block of `elements` words per bin.
+    #[inline]
+    pub fn columns(&self, bins: core::ops::Range<usize>) -> &[u32] {
+        let (e, end) = (self.elements, bins.end.min(self.m));
+        self.words.get(bins.start * e..end * e).unwrap_or(&[])
     }
 }
 
-/// Windowed Q15 samples from one element's sums (`[re, im]` word pairs): each part scaled by
-/// `2^−shift` with rounding (every part is below `2^(15 + shift)`), then multiplied by the window
-/// with rounding. Only a rounded-up maximum can reach 2^15, so one `min` keeps it in `i16`. All
-/// `i32` (no `i64` on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is `(v + 2^(s−1)) >> s`
-/// without its overflow. O(N).
 /// The smallest `shift ≥ −15` with every sum in `[−2^(15 + shift), 2^(15 + shift))`.
 ///
 /// `v ^ (v << 1)` has its top bit at `t` for `v` in `[−2^t, 2^t)` (where the sign bit's run
@@ -335,12 +337,17 @@ fn normalizing_shift(sums: &[u32]) -> i32 {
     (16 - bound.leading_zeros() as i32).max(-15) // t − 15 = (31 − clz) − 15
 }
 
+/// Windowed Q15 samples from one element's sums (`[re, im]` word pairs): each part scaled by
+/// `2^−shift` with rounding (every part is below `2^(15 + shift)`), then multiplied by the window
+/// with rounding. Only a rounded-up maximum can reach 2^15, so one clamp (`SSAT`) keeps it in
+/// `i16`. All
+/// `i32` (no `i64` on the M7's hot path): `((v >> (s−1)) + 1) >> 1` is `(v + 2^(s−1)) >> s`
+/// without its overflow. O(N).
 fn normalize(row: &mut [CQ15], sums: &[u32], window: &[Q15], shift: i32) {
     let windowed = |s: i32, w: Q15| ((s * w.0 as i32 + (1 << 14)) >> 15) as i16;
     let pairs = row.iter_mut().zip(sums.chunks_exact(2)).zip(window);
     if shift > 0 {
         let down = (shift - 1) as u32;
-        // Rounding can reach 2^15 only upward; the clamp is one `SSAT`.
         let q = |v: u32| ((((v as i32) >> down) + 1) >> 1).clamp(i16::MIN as i32, i16::MAX as i32);
         for ((o, acc), &w) in pairs {
             *o = CQ15::from_raw(windowed(q(acc[0]), w), windowed(q(acc[1]), w));

@@ -37,11 +37,18 @@ impl Steering {
     /// element on the M7 (`SMLSLD`, `SMLALDX`) over the contiguous column, exact in `i64`. O(E).
     #[inline]
     pub fn beam(&self, spectra: &Spectra<'_>, k: usize) -> C32 {
-        let (re, im) = simd::complex_mac(spectra.column(k), &self.weights);
-        C32::new(to_f32(re) / 32768.0, to_f32(im) / 32768.0)
+        self.beam_of(spectra.column(k))
     }
 
-    /// Calls `each(k, beam(k))` for bins `first..first + len` (clipped to the spectrum). O(E·len).
+    /// The beam of one column (bin) of packed words.
+    #[inline(always)]
+    fn beam_of(&self, column: &[u32]) -> C32 {
+        let (re, im) = simd::complex_mac(column, &self.weights);
+        C32::new(q15_to_f32(re), q15_to_f32(im))
+    }
+
+    /// Calls `each(k, beam(k))` for bins `first..first + len` (clipped to the spectrum): one walk
+    /// over their contiguous columns, without a bounds check or call per bin. O(E·len).
     #[inline]
     pub fn run(
         &self,
@@ -50,19 +57,21 @@ impl Steering {
         len: usize,
         mut each: impl FnMut(usize, C32),
     ) {
-        for k in first..first.saturating_add(len).min(spectra.bins()) {
-            each(k, self.beam(spectra, k));
+        let block = spectra.columns(first..first.saturating_add(len));
+        for (i, column) in block.chunks_exact(spectra.elements().max(1)).enumerate() {
+            each(first + i, self.beam_of(column));
         }
     }
 }
 
-/// `x as f32` (round to nearest, ties to even) for `|x| < 2⁴⁸`, through two exact `i32 → f32`
-/// conversions and one rounding addition: hardware instructions on the M7 instead of the
-/// `__aeabi_l2f` call. Beams stay below 2⁴⁰ (E ≤ 256 products below 2³¹).
+/// `x / 2¹⁵ as f32` (round to nearest, ties to even) for `|x| < 2⁴⁸`, through two exact
+/// `i32 → f32` conversions and one rounding addition: hardware instructions on the M7 instead of
+/// the `__aeabi_l2f` call. Beams stay below 2⁴⁰ (E ≤ 256 products below 2³¹). Both terms are
+/// exact multiples of powers of two, so this is `(x as f32) / 32768.0`, bit for bit.
 #[inline]
-fn to_f32(x: i64) -> f32 {
-    let hi = (x >> 24) as i32 as f32 * 16_777_216.0; // exact: at most 24 significant bits
-    let lo = (x & 0xFF_FFFF) as i32 as f32; // exact: below 2²⁴
+fn q15_to_f32(x: i64) -> f32 {
+    let hi = (x >> 24) as i32 as f32 * 512.0; // exact: at most 24 significant bits
+    let lo = (x & 0xFF_FFFF) as i32 as f32 * (1.0 / 32768.0); // exact: below 2²⁴
     hi + lo
 }
 
@@ -116,17 +125,25 @@ mod tests {
     }
 
     #[test]
-    fn to_f32_rounds_like_a_cast() {
+    fn q15_to_f32_rounds_like_a_cast() {
         let mut x = 1i64;
         for i in 0..200_000i64 {
             x = x
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             let v = (x >> (16 + i % 24)) % (1i64 << 47);
-            assert_eq!(to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            assert_eq!(
+                q15_to_f32(v).to_bits(),
+                (v as f32 / 32768.0).to_bits(),
+                "{v}"
+            );
         }
         for v in [0i64, -1, (1 << 24) + 1, -(1 << 40) - 3, (1 << 47) - 1] {
-            assert_eq!(to_f32(v).to_bits(), (v as f32).to_bits(), "{v}");
+            assert_eq!(
+                q15_to_f32(v).to_bits(),
+                (v as f32 / 32768.0).to_bits(),
+                "{v}"
+            );
         }
     }
 }
