@@ -222,24 +222,15 @@ impl<'a> FrameSum<'a> {
         for (r, &s) in rows.iter_mut().zip(spec.iter()) {
             *r = s;
         }
-        // Bin-major writes, one column per bin, reading each row's bin (strided).
-        let mut down: Vec<u32, MAX_CHANNELS> = Vec::new();
-        for &x in &exps {
-            let _ = down.push((exponent - x) as u32);
-        }
-        for (k, column) in spec.chunks_exact_mut(self.elements.max(1)).enumerate() {
-            for ((o, row), &d) in column
+        // Row by row, each with its own constant shift, written strided into the bin-major
+        // layout: word k·E + e.
+        for (e, (row, &x)) in rows.chunks_exact(m.max(1)).zip(&exps).enumerate() {
+            let column = spec
+                .get_mut(e..)
+                .unwrap_or_default()
                 .iter_mut()
-                .zip(rows.chunks_exact(m.max(1)))
-                .zip(&down)
-            {
-                let w = row.get(k).copied().unwrap_or(0);
-                *o = if d > 0 {
-                    pack(unpack(w).scale_down(d))
-                } else {
-                    w
-                };
-            }
+                .step_by(self.elements.max(1));
+            align_row(column, row, (exponent - x) as u32);
         }
         Ok((
             Spectra {
@@ -328,6 +319,21 @@ impl<'a> Spectra<'a> {
     }
 }
 
+/// `row` scaled down by `2^down` with rounding into `out` (as [`CQ15::scale_down`], with the
+/// shift's constants hoisted out of the loop). O(len).
+fn align_row<'w>(out: impl Iterator<Item = &'w mut u32>, row: &[u32], down: u32) {
+    match down {
+        0 => out.zip(row).for_each(|(o, &w)| *o = w),
+        16.. => out.for_each(|o| *o = 0),
+        d => {
+            let half = 1i32 << (d - 1);
+            let part = |x: i32| ((x + half) >> d) as u16 as u32;
+            out.zip(row)
+                .for_each(|(o, &w)| *o = part(w as i16 as i32) | part((w as i32) >> 16) << 16);
+        }
+    }
+}
+
 /// The smallest `shift ≥ −15` with every sum in `[−2^(15 + shift), 2^(15 + shift))`.
 ///
 /// `v ^ (v << 1)` has its top bit at `t` for `v` in `[−2^t, 2^t)` (where the sign bit's run
@@ -366,6 +372,26 @@ mod tests {
     use super::*;
     use crate::window::{WindowKind, coefficient, coefficient_f64};
     use std::vec;
+
+    #[test]
+    fn align_row_is_scale_down() {
+        let row: vec::Vec<u32> = [(-32768i16, 32767i16), (-1, 1), (12345, -23456), (0, -3)]
+            .iter()
+            .map(|&(r, i)| pack(CQ15::from_raw(r, i)))
+            .collect();
+        for down in 0..20u32 {
+            let mut out = vec![7u32; 2 * row.len()];
+            align_row(out.iter_mut().step_by(2), &row, down);
+            for (i, &w) in row.iter().enumerate() {
+                assert_eq!(
+                    out[2 * i],
+                    pack(unpack(w).scale_down(down)),
+                    "down {down} word {i}"
+                );
+                assert_eq!(out[2 * i + 1], 7, "down {down} gap {i}");
+            }
+        }
+    }
 
     #[test]
     fn normalizing_shift_is_the_tightest() {
