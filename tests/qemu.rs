@@ -36,7 +36,8 @@ fn firmware_self_test_matches_host_bit_for_bit() {
 }
 
 /// The module pipeline on the cascade-86 budget scene (4 objects, 3 clutter reflectors): the M7
-/// must report exactly what the host computes, and both must find every object within 5 cm.
+/// must report exactly what the host computes, both must find every object within 5 cm, and the
+/// frame must stay within the 24 M-instruction budget.
 #[test]
 fn pipeline_on_the_m7_matches_host_and_truth() {
     use dsp::fixed::CQ15;
@@ -82,4 +83,14 @@ fn pipeline_on_the_m7_matches_host_and_truth() {
         ));
     }
     assert_eq!(module, host, "the module and the host disagree:\n{out}");
+    // The firmware issue's budget, counted (deterministic under -icount, not timed).
+    let frame: u64 = out
+        .lines()
+        .find_map(|l| l.strip_prefix("ICOUNT stage=frame instructions="))
+        .and_then(|v| v.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no frame count in:\n{out}"));
+    assert!(
+        frame <= host_tools::bench::budget::INSTRUCTION_BUDGET,
+        "{frame} instructions per frame, over the budget (scripts/profile-m7 shows where)"
+    );
 }
