@@ -14,6 +14,7 @@ pub mod fields;
 pub mod frame;
 pub mod geofence;
 pub mod geometry;
+pub mod inspect;
 pub mod oracle;
 pub mod process;
 pub mod qemu;

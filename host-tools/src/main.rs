@@ -79,7 +79,34 @@ enum Command {
         /// with `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge < FILE`.
         #[arg(long, value_name = "FILE")]
         edge_log: Option<PathBuf>,
+        /// Also write the engineer's products into this folder: results.json, per frame the
+        /// fused depth image (depth_F.png, 16-bit KITTI: m × 256, 0 = none) and point cloud
+        /// (points_F.ply), and with --mode metamoran the range–azimuth maps before/after SIC
+        /// and P(d) plots per object (as `inspect`).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
         /// Print the JSON document (cli.md) instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Plots of what the radar saw for each object of one frame: the range–azimuth map before
+    /// and after SIC (span, cancelled reflectors and chosen depth marked) and the score P(d).
+    #[command(
+        after_help = "Examples:\n  metamoran inspect demo-out/scene --out inspect-out\n  metamoran inspect scenes/parking-lot-1-0000 --frame 2 --json"
+    )]
+    Inspect {
+        /// The bundle folder.
+        bundle: PathBuf,
+        /// Frame to inspect.
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// Output folder for the PNG plots.
+        #[arg(long, default_value = "inspect-out")]
+        out: PathBuf,
+        /// I/Q order of radar.bin.
+        #[arg(long, value_enum, default_value = "iiqq")]
+        iq_order: IqArg,
+        /// Print JSON instead of a summary.
         #[arg(long)]
         json: bool,
     },
@@ -256,6 +283,7 @@ fn run(cli: Cli) -> Result<(), String> {
             edge,
             link_key,
             edge_log,
+            out: products,
             json,
         } => {
             let key = match link_key {
@@ -279,6 +307,13 @@ fn run(cli: Cli) -> Result<(), String> {
                 )?;
                 std::fs::write(&path, bytes)
                     .map_err(|e| format!("--edge-log {}: {e}", path.display()))?;
+            }
+            if let Some(dir) = products {
+                let options = OpenOptions {
+                    iq_order: iq_order.into(),
+                };
+                let files = host_tools::process::write_products(&dir, &bundle, options, &out)?;
+                eprintln!("wrote {} files to {}", files.len(), dir.display());
             }
             if json {
                 println!(
@@ -306,6 +341,23 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             Ok(())
         }
+        Command::Inspect {
+            bundle,
+            frame,
+            out,
+            iq_order,
+            json,
+        } => print(
+            &host_tools::inspect::run(
+                &bundle,
+                frame,
+                &out,
+                OpenOptions {
+                    iq_order: iq_order.into(),
+                },
+            )?,
+            json,
+        ),
         Command::Eval { dir, modes, json } => {
             let (report, _) = host_tools::eval::run(&dir, &modes, !json)?;
             print(&report, json)?;

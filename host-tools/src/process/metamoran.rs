@@ -107,6 +107,16 @@ impl StaticScene {
         hint: &ObjectHint,
         reflectors: &[Reflector],
     ) -> Result<ObjectReport, String> {
+        self.search_scored(hint, reflectors).map(|(r, _)| r)
+    }
+
+    /// [`Self::search`], also returning the coarse score `P(d)` per range bin (0 outside the
+    /// searched bins).
+    pub fn search_scored(
+        &mut self,
+        hint: &ObjectHint,
+        reflectors: &[Reflector],
+    ) -> Result<(ObjectReport, Vec<f32>), String> {
         let mut scores = vec![0.0f32; self.edge.fft_len()];
         let mut view = Scene::resume(
             &self.edge,
@@ -115,9 +125,41 @@ impl StaticScene {
             self.peaks.clone(),
         )
         .map_err(|e| e.to_string())?;
-        self.edge
+        let report = self
+            .edge
             .search(&mut view, hint, reflectors, &mut scores)
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+        Ok((report, scores))
+    }
+
+    /// The range–azimuth power map, dB (arbitrary reference), with `reflectors` subtracted:
+    /// one row of range bins `0..bins` per entry of `sin_grid` (row-major). The beams are the
+    /// module's (its fixed-point spectra, its SIC residual). O(grid · bins · E).
+    ///
+    /// # Errors
+    /// A message if the frame's spectra cannot be read back.
+    pub fn range_azimuth_db(
+        &mut self,
+        reflectors: &[Reflector],
+        sin_grid: &[f32],
+        bins: usize,
+    ) -> Result<Vec<f32>, String> {
+        let view = Scene::resume(
+            &self.edge,
+            &mut self.arena,
+            self.exponent,
+            self.peaks.clone(),
+        )
+        .map_err(|e| e.to_string())?;
+        let geo = self.edge.geometry();
+        let mut row = vec![C32::new(0.0, 0.0); bins];
+        let mut out = Vec::with_capacity(sin_grid.len() * bins);
+        for &s in sin_grid {
+            row.fill(C32::new(0.0, 0.0));
+            dsp::clutter::sic::Residual::new(&view.spectra, &geo, reflectors, s).fill(0, &mut row);
+            out.extend(row.iter().map(|b| 10.0 * (b.norm_sqr() + 1e-12).log10()));
+        }
+        Ok(out)
     }
 
     /// The pipeline.

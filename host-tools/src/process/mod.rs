@@ -242,3 +242,28 @@ pub fn process_logged(
     };
     Ok((ProcessOutput { mode, frames }, log))
 }
+
+/// `process --out DIR`: writes `results.json`, per frame the fused depth image (`depth_F.png`,
+/// 16-bit KITTI) and point cloud (`points_F.ply`), and for the Metamoran mode the inspection
+/// plots of every object of every frame ([`crate::inspect`]). Returns the file names.
+///
+/// # Errors
+/// A message naming the folder or file that could not be written, or the bad bundle field.
+pub fn write_products(
+    dir: &Path,
+    bundle_dir: &Path,
+    options: OpenOptions,
+    out: &ProcessOutput,
+) -> Result<Vec<String>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+    let mut bundle = Bundle::open(bundle_dir, options).map_err(|e| e.to_string())?;
+    let camera = CameraModel::new(&bundle.scene.camera);
+    let mut files = crate::demo::write_outputs(dir, &camera, out)?;
+    if out.mode == Mode::Metamoran {
+        for f in &out.frames {
+            let views = crate::inspect::inspect_frame(&mut bundle, f.frame)?;
+            files.extend(crate::inspect::write_plots(dir, f.frame, &views)?);
+        }
+    }
+    Ok(files)
+}
