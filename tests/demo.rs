@@ -125,4 +125,88 @@ fn demo_alerts_images_and_points_match_the_truth() {
             .unwrap()
             .contains("far lot")
     );
+    check_recording(&out, &results);
+}
+
+/// `recording.mcap`, read by Foxglove's `mcap` package from PyPI (the test venv): one objects
+/// message and one point cloud per frame with results.json's depths and points, and every alert
+/// of alerts.jsonl, each with a JSON Schema and JSON messages.
+fn check_recording(out: &std::path::Path, results: &serde_json::Value) {
+    let Some(py) = host_tools::oracle::venv_python() else {
+        assert!(!oracles_required(), "the test venv (mcap) is required");
+        eprintln!("SKIPPED: no test venv for the MCAP reader");
+        return;
+    };
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/oracles/read_mcap.py");
+    let run = std::process::Command::new(py)
+        .arg(script)
+        .arg(out.join("recording.mcap"))
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let messages: Vec<serde_json::Value> = serde_json::from_slice(&run.stdout).unwrap();
+    let on = |topic: &str| -> Vec<&serde_json::Value> {
+        messages.iter().filter(|m| m["topic"] == topic).collect()
+    };
+    assert!(
+        messages
+            .iter()
+            .all(|m| m["schema_encoding"] == "jsonschema" && m["message_encoding"] == "json")
+    );
+    let frame = &results["frames"][0];
+    let objects = on("/metamoran/objects");
+    assert_eq!(objects.len(), 1);
+    for (rec, want) in objects[0]["body"]["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(frame["objects"].as_array().unwrap())
+    {
+        assert_eq!(rec["instance"], want["instance"]);
+        assert_eq!(rec["depth_m"], want["depth_m"]);
+        assert_eq!(rec["points"], want["points"].as_array().unwrap().len());
+    }
+    let clouds = on("/metamoran/points");
+    assert_eq!(clouds.len(), 1);
+    assert_eq!(clouds[0]["schema"], "foxglove.PointCloud");
+    let got = clouds[0]["points"].as_array().unwrap();
+    let want: Vec<(f64, f64, f64, f64)> = frame["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|o| {
+            let id = o["instance"].as_f64().unwrap();
+            o["points"].as_array().unwrap().iter().map(move |p| {
+                let c = |i: usize| p[i].as_f64().unwrap();
+                (c(0), c(1), c(2), id)
+            })
+        })
+        .collect();
+    assert_eq!(got.len(), want.len());
+    for (g, w) in got.iter().zip(&want) {
+        let g: Vec<f64> = g
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let err = (g[0] - w.0).abs() + (g[1] - w.1).abs() + (g[2] - w.2).abs();
+        assert!(
+            err < 1e-4 * (1.0 + w.2.abs()) && g[3] == w.3,
+            "{g:?} vs {w:?}"
+        );
+    }
+    let alerts: Vec<serde_json::Value> = std::fs::read_to_string(out.join("alerts.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let recorded: Vec<&serde_json::Value> =
+        on("/metamoran/alerts").iter().map(|m| &m["body"]).collect();
+    assert!(!alerts.is_empty());
+    assert_eq!(recorded, alerts.iter().collect::<Vec<_>>());
 }

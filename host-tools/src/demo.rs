@@ -223,6 +223,8 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
         out,
         &CameraModel::new(&scene.camera),
         &output,
+        period,
+        &alerts,
     )?);
     let alert_lines: String = alerts
         .iter()
@@ -262,8 +264,8 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
     Ok(report)
 }
 
-/// `results.json` (cli.md's shape) and, per frame, `depth_F.png` (KITTI, through `camera`) and
-/// `points_F.ply`.
+/// `results.json` (cli.md's shape), per frame `depth_F.png` (KITTI, through `camera`) and
+/// `points_F.ply`, and `recording.mcap` with the frames (every `period_s`) and `alerts`.
 ///
 /// # Errors
 /// A message naming the file that could not be written.
@@ -271,6 +273,8 @@ pub fn write_outputs(
     out: &Path,
     camera: &CameraModel,
     output: &ProcessOutput,
+    period_s: f64,
+    alerts: &[crate::geofence::Alert],
 ) -> Result<Vec<String>, String> {
     let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
     write(&out.join("results.json"), &json)?;
@@ -283,5 +287,12 @@ pub fn write_outputs(
         write_ply(&out.join(&ply), f)?;
         files.extend([png, ply]);
     }
+    crate::record::record(
+        &out.join("recording.mcap"),
+        &output.frames,
+        period_s,
+        alerts,
+    )?;
+    files.push("recording.mcap".into());
     Ok(files)
 }

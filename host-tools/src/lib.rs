@@ -18,6 +18,7 @@ pub mod inspect;
 pub mod oracle;
 pub mod process;
 pub mod qemu;
+pub mod record;
 pub mod sim;
 pub mod summary;
 

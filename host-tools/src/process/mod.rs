@@ -244,7 +244,7 @@ pub fn process_logged(
 }
 
 /// `process --out DIR`: writes `results.json`, per frame the fused depth image (`depth_F.png`,
-/// 16-bit KITTI) and point cloud (`points_F.ply`), and for the Metamoran mode the inspection
+/// 16-bit KITTI) and point cloud (`points_F.ply`), `recording.mcap`, and for the Metamoran mode the inspection
 /// plots of every object of every frame ([`crate::inspect`]). Returns the file names.
 ///
 /// # Errors
@@ -258,7 +258,8 @@ pub fn write_products(
     std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
     let mut bundle = Bundle::open(bundle_dir, options).map_err(|e| e.to_string())?;
     let camera = CameraModel::new(&bundle.scene.camera);
-    let mut files = crate::demo::write_outputs(dir, &camera, out)?;
+    let period = bundle.scene.radar.frame_period_s;
+    let mut files = crate::demo::write_outputs(dir, &camera, out, period, &[])?;
     if out.mode == Mode::Metamoran {
         for f in &out.frames {
             let views = crate::inspect::inspect_frame(&mut bundle, f.frame)?;
