@@ -17,9 +17,9 @@ fn demo_alerts_images_and_points_match_the_truth() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
-    let report = run(&out, edge, None).unwrap();
+    let report = run(&out, edge, None, None).unwrap();
     // Safe to run twice into the same folder.
-    let again = run(&out, DemoEdge::InProcess, None).unwrap();
+    let again = run(&out, DemoEdge::InProcess, None, None).unwrap();
     assert_eq!(again.alerts, report.alerts, "the in-process edge disagrees");
 
     let scene = std::fs::read_dir(out.join("scene"))

@@ -77,6 +77,8 @@ pub struct DemoReport {
     pub alerts: Vec<Alert>,
     /// Link health from the module (QEMU only): frames and faults it counted.
     pub link: Option<String>,
+    /// What went to the MQTT broker, if one was given.
+    pub mqtt: Option<String>,
     /// Files written, relative to `out`.
     pub files: Vec<String>,
 }
@@ -124,6 +126,9 @@ impl fmt::Display for DemoReport {
         if let Some(l) = &self.link {
             writeln!(f, "\nlink: {l}")?;
         }
+        if let Some(m) = &self.mqtt {
+            writeln!(f, "published: {m}")?;
+        }
         writeln!(f, "\noutputs in {}:", self.out.display())?;
         for file in &self.files {
             writeln!(f, "  {file}")?;
@@ -140,7 +145,12 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
 ///
 /// # Errors
 /// A message saying what failed and what to do.
-pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoReport, String> {
+pub fn run(
+    out: &Path,
+    edge: DemoEdge,
+    perimeter: Option<&Path>,
+    mqtt: Option<&crate::mqtt::MqttConfig>,
+) -> Result<DemoReport, String> {
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
     let perimeter_file = out.join("perimeter.toml");
@@ -196,6 +206,27 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
     for f in &output.frames {
         alerts.extend(fence.update(f.frame, f.frame as f64 * period, &f.objects));
     }
+    let published = match mqtt {
+        Some(config) => {
+            let publisher = crate::mqtt::Publisher::connect(config)?;
+            for f in &output.frames {
+                publisher.frame(f)?;
+            }
+            for a in &alerts {
+                publisher.alert(a)?;
+            }
+            publisher.close()?;
+            Some(format!(
+                "{} frame(s) and {} alert(s) to mqtt://{}:{} under {}",
+                output.frames.len(),
+                alerts.len(),
+                config.host,
+                config.port,
+                config.topic("#")
+            ))
+        }
+        None => None,
+    };
     let tracks = output
         .frames
         .last()
@@ -257,6 +288,7 @@ pub fn run(out: &Path, edge: DemoEdge, perimeter: Option<&Path>) -> Result<DemoR
         tracks,
         alerts,
         link,
+        mqtt: published,
         files,
     };
     report.files.push("operator.txt".into());

@@ -15,6 +15,7 @@ pub mod frame;
 pub mod geofence;
 pub mod geometry;
 pub mod inspect;
+pub mod mqtt;
 pub mod oracle;
 pub mod process;
 pub mod qemu;

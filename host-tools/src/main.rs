@@ -154,7 +154,7 @@ enum Command {
     /// (firmware under QEMU, or in-process where QEMU is absent), telemetry back, camera fusion,
     /// perimeter alerts, operator view; outputs in one folder.
     #[command(
-        after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json"
+        after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json\n  metamoran demo --mqtt localhost:1883 --sensor gate-east"
     )]
     Demo {
         /// Output folder (results.json, depth_0.png, points_0.ply, alerts.jsonl, operator.txt, …).
@@ -166,6 +166,13 @@ enum Command {
         /// Perimeter TOML (zones, restricted classes, confidence, hysteresis); default: built in.
         #[arg(long)]
         perimeter: Option<PathBuf>,
+        /// Also publish to this MQTT broker (HOST:PORT): objects at QoS 0, alerts at QoS 1,
+        /// retained status with a last will, under metamoran/<sensor>/.
+        #[arg(long, value_name = "HOST:PORT")]
+        mqtt: Option<String>,
+        /// Sensor id for the MQTT topics and client id.
+        #[arg(long, default_value = "demo")]
+        sensor: String,
         /// Print JSON instead of the operator view.
         #[arg(long)]
         json: bool,
@@ -385,11 +392,18 @@ fn run(cli: Cli) -> Result<(), String> {
             out,
             edge,
             perimeter,
+            mqtt,
+            sensor,
             json,
-        } => print(
-            &host_tools::demo::run(&out, edge, perimeter.as_deref())?,
-            json,
-        ),
+        } => {
+            let mqtt = mqtt
+                .map(|b| host_tools::mqtt::MqttConfig::parse(&b, &sensor))
+                .transpose()?;
+            print(
+                &host_tools::demo::run(&out, edge, perimeter.as_deref(), mqtt.as_ref())?,
+                json,
+            )
+        }
         Command::DemoCapture { json } => {
             let capture = host_tools::shared_dir().join(DEMO_CAPTURE);
             if !capture.exists() {

@@ -1,0 +1,150 @@
+//! MQTT against a real broker: Debian's mosquitto, started by the test on a free loopback port.
+//! The demo's objects and alerts must arrive (objects QoS 0, alerts QoS 1, equal to the demo's
+//! own report), the status must be retained (`stopped` after a clean end, seen by a subscriber
+//! that connects afterwards), and a publisher that drops its connection without a DISCONNECT
+//! must leave the broker's last will, `offline`, retained.
+
+use host_tools::demo::{DemoEdge, run};
+use host_tools::mqtt::{MqttConfig, Publisher};
+use metamoran_e2e::oracles_required;
+use rumqttc::{Client, Event, MqttOptions, Packet, QoS};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+struct Broker(Child, u16);
+
+impl Drop for Broker {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn start_broker() -> Option<Broker> {
+    let exe = ["/usr/sbin/mosquitto", "/usr/bin/mosquitto"]
+        .into_iter()
+        .find(|p| std::path::Path::new(p).exists())?;
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let child = Command::new(exe)
+        .args(["-p", &port.to_string()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .ok()?;
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "mosquitto did not start");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    Some(Broker(child, port))
+}
+
+/// Subscribes to `metamoran/#` and returns (topic, payload, retain) of everything received
+/// until `quiet` passes without a message (or `limit`).
+fn listen(port: u16, id: &str, during: impl FnOnce()) -> Vec<(String, String, bool)> {
+    let (client, mut connection) = Client::new(MqttOptions::new(id, "127.0.0.1", port), 64);
+    client.subscribe("metamoran/#", QoS::AtLeastOnce).unwrap();
+    // Wait for the SUBACK before anything is published.
+    loop {
+        if let Ok(Ok(Event::Incoming(Packet::SubAck(_)))) =
+            connection.recv_timeout(Duration::from_secs(5))
+        {
+            break;
+        }
+    }
+    during();
+    let mut got = Vec::new();
+    while let Ok(Ok(event)) = connection.recv_timeout(Duration::from_millis(700)) {
+        if let Event::Incoming(Packet::Publish(p)) = event {
+            got.push((
+                p.topic.clone(),
+                String::from_utf8_lossy(&p.payload).into_owned(),
+                p.retain,
+            ));
+        }
+    }
+    got
+}
+
+#[test]
+fn demo_publishes_objects_alerts_status_and_last_will() {
+    let Some(broker) = start_broker() else {
+        assert!(
+            !oracles_required(),
+            "mosquitto is required (apt-get install -y mosquitto)"
+        );
+        eprintln!("SKIPPED: mosquitto not installed");
+        return;
+    };
+    let port = broker.1;
+    let dir = tempfile::tempdir().unwrap();
+    let config = MqttConfig::parse(&format!("127.0.0.1:{port}"), "gate").unwrap();
+    let mut report = None;
+    let live = listen(port, "watcher", || {
+        report = Some(run(dir.path(), DemoEdge::InProcess, None, Some(&config)).unwrap());
+    });
+    let report = report.unwrap();
+    let on = |topic: &str| -> Vec<&(String, String, bool)> {
+        live.iter().filter(|m| m.0 == topic).collect()
+    };
+    // Objects: one message for the demo's one frame, the tracks' depths.
+    let objects = on("metamoran/gate/objects");
+    assert_eq!(objects.len(), 1, "{live:?}");
+    let body: serde_json::Value = serde_json::from_str(&objects[0].1).unwrap();
+    let depths: Vec<Option<f64>> = body["objects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["depth_m"].as_f64())
+        .collect();
+    let want: Vec<Option<f64>> = report.tracks.iter().map(|t| t.depth_m).collect();
+    assert_eq!(depths, want);
+    // Alerts: every one, in order.
+    let alerts: Vec<serde_json::Value> = on("metamoran/gate/alerts")
+        .iter()
+        .map(|m| serde_json::from_str(&m.1).unwrap())
+        .collect();
+    assert!(!report.alerts.is_empty());
+    let expected: Vec<serde_json::Value> = report
+        .alerts
+        .iter()
+        .map(|a| serde_json::to_value(a).unwrap())
+        .collect();
+    assert_eq!(alerts, expected);
+    let status: Vec<&str> = on("metamoran/gate/status")
+        .iter()
+        .map(|m| m.1.as_str())
+        .collect();
+    assert_eq!(status, ["online", "stopped"]);
+
+    // A late subscriber gets the retained status of a clean end.
+    let late = listen(port, "late", || {});
+    assert!(
+        late.contains(&("metamoran/gate/status".into(), "stopped".into(), true)),
+        "{late:?}"
+    );
+
+    // A lost connection: the broker publishes the last will, retained.
+    let lost = MqttConfig::parse(&format!("127.0.0.1:{port}"), "mast").unwrap();
+    let seen = listen(port, "watcher2", || {
+        Publisher::connect(&lost).unwrap().abort();
+    });
+    let status: Vec<&str> = seen
+        .iter()
+        .filter(|m| m.0 == "metamoran/mast/status")
+        .map(|m| m.1.as_str())
+        .collect();
+    assert_eq!(status, ["online", "offline"], "{seen:?}");
+    let late = listen(port, "late2", || {});
+    assert!(late.contains(&("metamoran/mast/status".into(), "offline".into(), true)));
+
+    // A broker that is not there is a clear error, not a hang.
+    drop(broker);
+    let gone = MqttConfig::parse(&format!("127.0.0.1:{port}"), "gate").unwrap();
+    let err = Publisher::connect(&gone).err().unwrap();
+    assert!(err.contains(&format!("127.0.0.1:{port}")), "{err}");
+}
