@@ -18,6 +18,7 @@ pub mod inspect;
 pub mod mqtt;
 pub mod oracle;
 pub mod process;
+pub mod progress;
 pub mod qemu;
 pub mod record;
 pub mod sim;

@@ -167,17 +167,8 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, String> {
 /// A message if `dir` holds no bundle. Bundles that fail are listed in the report.
 pub fn run(dir: &Path, modes: &[Mode], progress: bool) -> Result<(Report, Vec<Sample>), String> {
     let dirs = bundles_in(dir)?;
-    let bar = if progress {
-        indicatif::ProgressBar::new(dirs.len() as u64)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "evaluating [{bar:40}] {pos}/{len} bundles, {elapsed} (eta {eta})",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let bar = crate::progress::bar(dirs.len() as u64, "bundles", progress);
+    bar.set_message("evaluating");
     let results: Vec<Result<Vec<Sample>, String>> = dirs
         .par_iter()
         .map(|d| {

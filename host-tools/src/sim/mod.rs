@@ -220,17 +220,7 @@ pub fn simulate(
 ) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the folder ({e})", out.display()))?;
-    let bar = if progress {
-        indicatif::ProgressBar::new(count)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{msg} [{bar:40}] {pos}/{len} scenes, {elapsed} (eta {eta})",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let bar = crate::progress::bar(count, "scenes", progress);
     bar.set_message(format!("simulating {}", preset.name()));
     let dirs: Vec<PathBuf> = (0..count)
         .map(|k| out.join(format!("{}-{seed}-{k:04}", preset.name())))
