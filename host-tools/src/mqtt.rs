@@ -72,7 +72,8 @@ pub struct Publisher {
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
 
 impl Publisher {
-    /// Connects (clean session, last will `offline` retained) and publishes `online` retained.
+    /// Connects (clean session, last will `offline` retained) and publishes `online` retained;
+    /// returns once the broker has acknowledged it.
     ///
     /// # Errors
     /// A message naming the broker when it does not accept the connection in 5 s.
@@ -118,7 +119,29 @@ impl Publisher {
             pump: Some(pump),
         };
         p.send("status", QoS::AtLeastOnce, true, b"online".to_vec())?;
+        p.flush()?;
         Ok(p)
+    }
+
+    /// Waits until the broker has acknowledged every QoS 1 message published so far.
+    ///
+    /// # Errors
+    /// A message naming the broker if that takes more than 5 s.
+    pub fn flush(&self) -> Result<(), String> {
+        let deadline = std::time::Instant::now() + CONNECT_TIMEOUT;
+        while self.acked.load(Ordering::Relaxed) < self.sent.load(Ordering::Relaxed) {
+            if std::time::Instant::now() > deadline {
+                return Err(format!(
+                    "MQTT broker {}:{}: {} of {} alerts/status messages unacknowledged after 5 s",
+                    self.config.host,
+                    self.config.port,
+                    self.sent.load(Ordering::Relaxed) - self.acked.load(Ordering::Relaxed),
+                    self.sent.load(Ordering::Relaxed)
+                ));
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(())
     }
 
     fn send(&self, leaf: &str, qos: QoS, retain: bool, payload: Vec<u8>) -> Result<(), String> {
@@ -171,19 +194,7 @@ impl Publisher {
     /// A message if the broker does not acknowledge them within 5 s.
     pub fn close(mut self) -> Result<(), String> {
         self.send("status", QoS::AtLeastOnce, true, b"stopped".to_vec())?;
-        let deadline = std::time::Instant::now() + CONNECT_TIMEOUT;
-        while self.acked.load(Ordering::Relaxed) < self.sent.load(Ordering::Relaxed) {
-            if std::time::Instant::now() > deadline {
-                return Err(format!(
-                    "MQTT broker {}:{}: {} of {} alerts/status messages unacknowledged after 5 s",
-                    self.config.host,
-                    self.config.port,
-                    self.sent.load(Ordering::Relaxed) - self.acked.load(Ordering::Relaxed),
-                    self.sent.load(Ordering::Relaxed)
-                ));
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
+        self.flush()?;
         self.client
             .disconnect()
             .map_err(|e| format!("MQTT disconnect: {e}"))?;
