@@ -91,13 +91,7 @@ impl StaticScene {
         &mut self,
         hint: &ObjectHint,
     ) -> Result<heapless::Vec<Reflector, MAX_REFLECTORS>, String> {
-        let view = Scene::resume(
-            &self.edge,
-            &mut self.arena,
-            self.exponent,
-            self.peaks.clone(),
-        )
-        .map_err(|e| e.to_string())?;
+        let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
         Ok(self.edge.cancel(&view, hint))
     }
 
@@ -118,13 +112,7 @@ impl StaticScene {
         reflectors: &[Reflector],
     ) -> Result<(ObjectReport, Vec<f32>), String> {
         let mut scores = vec![0.0f32; self.edge.fft_len()];
-        let mut view = Scene::resume(
-            &self.edge,
-            &mut self.arena,
-            self.exponent,
-            self.peaks.clone(),
-        )
-        .map_err(|e| e.to_string())?;
+        let mut view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
         let report = self
             .edge
             .search(&mut view, hint, reflectors, &mut scores)
@@ -144,13 +132,7 @@ impl StaticScene {
         sin_grid: &[f32],
         bins: usize,
     ) -> Result<Vec<f32>, String> {
-        let view = Scene::resume(
-            &self.edge,
-            &mut self.arena,
-            self.exponent,
-            self.peaks.clone(),
-        )
-        .map_err(|e| e.to_string())?;
+        let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
         let geo = self.edge.geometry();
         let mut row = vec![C32::new(0.0, 0.0); bins];
         let mut out = Vec::with_capacity(sin_grid.len() * bins);
@@ -166,6 +148,16 @@ impl StaticScene {
     pub fn edge(&self) -> &Edge {
         &self.edge
     }
+}
+
+/// The module's view of a frame already finished in `arena` (see [`Scene::resume`]).
+fn resume<'a>(
+    edge: &Edge,
+    arena: &'a mut [u32],
+    exponent: i32,
+    peaks: &heapless::Vec<Peak, MAX_PEAKS>,
+) -> Result<Scene<'a>, String> {
+    Scene::resume(edge, arena, exponent, peaks.clone()).map_err(|e| e.to_string())
 }
 
 /// A frame's moving scene: static clutter removed (mean over loops), then one range spectrum per
