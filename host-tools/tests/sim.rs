@@ -102,25 +102,74 @@ fn written_bundle_reads_back_exactly() {
     for (preset, kind) in [
         (Preset::ParkingLot, RadarKind::Cascade),
         (Preset::Moving, RadarKind::Xwr18xx),
+        (Preset::Perimeter, RadarKind::Xwr18xx),
     ] {
         let dir = tmp.path().join(format!("{preset:?}"));
         simulate_one(preset, kind, 42, 3, &dir).unwrap();
         let scene = simulate_scene(preset, kind, 42, 3); // deterministic: the same scene again
         let mut b = Bundle::open(&dir, OpenOptions::default()).unwrap();
         assert_eq!(b.scene.radar, scene.radar);
-        let mut got = Vec::new();
-        b.read_radar_frame(0, &mut got).unwrap();
-        let mut want = vec![CQ15::default(); scene.radar.samples_per_frame()];
-        deinterleave_bytes(&scene.adc, IqOrder::Iiqq, &mut want).unwrap();
-        assert_eq!(got, want);
-        let cam = b.camera_frame(0).unwrap();
-        assert_eq!(cam.mask, scene.products.mask);
-        assert_eq!(cam.depth, scene.products.depth_png);
-        assert_eq!(
-            b.truth.unwrap().frames[0].objects.len(),
-            scene.truth.frames[0].objects.len()
-        );
+        assert_eq!(b.frames() as usize, scene.shots.len());
+        let n = scene.radar.samples_per_frame();
+        let truth = b.truth.clone().unwrap();
+        for f in 0..b.frames() {
+            let mut got = Vec::new();
+            b.read_radar_frame(f, &mut got).unwrap();
+            let mut want = vec![CQ15::default(); n];
+            let bytes = &scene.adc[f as usize * n * 4..(f as usize + 1) * n * 4];
+            deinterleave_bytes(bytes, IqOrder::Iiqq, &mut want).unwrap();
+            assert_eq!(got, want, "{preset:?} frame {f}");
+            let cam = b.camera_frame(f).unwrap();
+            let shot = &scene.shots[f as usize];
+            assert_eq!(cam.mask, shot.products.mask);
+            assert_eq!(cam.depth, shot.products.depth_png);
+            assert_eq!(
+                truth.frames[f as usize].objects.len(),
+                scene.truth.frames[f as usize].objects.len()
+            );
+        }
     }
+}
+
+#[test]
+fn the_perimeter_walker_moves_at_walking_speed_and_turns_back() {
+    use host_tools::sim::{layout::Preset, simulate_scene};
+    let scene = simulate_scene(Preset::Perimeter, RadarKind::Xwr18xx, 5, 0);
+    assert_eq!(scene.truth.frames.len(), 22);
+    let period = scene.radar.frame_period_s;
+    // The person's footprint centre from the truth: azimuth of the centre, depth of the
+    // closest point (0.25 m in front of the centre of a 0.25 m cylinder).
+    let centres: Vec<[f64; 2]> = scene
+        .truth
+        .frames
+        .iter()
+        .map(|f| {
+            let p = f.objects.iter().find(|o| o.class == "person").unwrap();
+            let (r, az) = (p.depth_m + 0.25, p.azimuth_deg.to_radians());
+            [r * az.sin(), r * az.cos()]
+        })
+        .collect();
+    let steps: Vec<f64> = centres
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+        .collect();
+    // 1.4 m/s for 0.5 s, less only across a turn or once the walk is over.
+    assert!(steps.iter().all(|&s| s <= 1.4 * period + 1e-6), "{steps:?}");
+    assert!(steps.iter().filter(|&&s| (s - 0.7).abs() < 1e-6).count() >= 15);
+    // It walks right into the gate (x > −3) and back out left of x = −4.
+    let x: Vec<f64> = centres.iter().map(|c| c[0]).collect();
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+    assert!(hi > -2.0 && lo < -5.0 && x[21] < -4.0, "{x:?}");
+    // The car stays where it is.
+    let car: Vec<f64> = scene
+        .truth
+        .frames
+        .iter()
+        .map(|f| f.objects.iter().find(|o| o.class == "car").unwrap().depth_m)
+        .collect();
+    assert!(car.iter().all(|&d| d == car[0] && d > 30.0));
 }
 
 #[test]
@@ -161,13 +210,13 @@ fn rendered_mask_spans_the_objects_geometry() {
                 geo.iter().copied().fold(9.0, f64::min),
                 geo.iter().copied().fold(-9.0, f64::max),
             );
-            let px: Vec<f64> = (0..scene.render.ids.len())
-                .filter(|&i| scene.render.ids[i] == o.id)
+            let px: Vec<f64> = (0..scene.shots[0].render.ids.len())
+                .filter(|&i| scene.shots[0].render.ids[i] == o.id)
                 .map(|i| {
                     azimuth(&model.back_project(
                         (i % 640) as u32,
                         (i / 640) as u32,
-                        scene.render.depth[i],
+                        scene.shots[0].render.depth[i],
                     ))
                 })
                 .collect();

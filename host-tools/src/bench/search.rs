@@ -46,9 +46,9 @@ pub fn run() -> Result<SearchReport, String> {
     let cam = CameraFrame {
         width: scene.camera.width,
         height: scene.camera.height,
-        mask: scene.products.mask.clone(),
-        depth: scene.products.depth_png.clone(),
-        instances: scene.instances.clone(),
+        mask: scene.shots[0].products.mask.clone(),
+        depth: scene.shots[0].products.depth_png.clone(),
+        instances: scene.shots[0].instances.clone(),
     };
     let obj = objects_of_interest(&CameraModel::new(&scene.camera), &cam)
         .into_iter()

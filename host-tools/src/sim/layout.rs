@@ -5,6 +5,7 @@
 //! object's angular span, plus buildings, poles, fences, trees, parked vehicles and ground.
 //! Nothing is placed in front of an object of interest, so the camera always sees it.
 
+use super::motion::Path;
 use super::object::{self, GROUND_Y, SceneObject};
 use super::shape::Shape;
 use clap::ValueEnum;
@@ -20,6 +21,10 @@ pub enum Preset {
     LongRange,
     /// Moving car, person or sign at 20–300 m among static clutter.
     Moving,
+    /// A perimeter over 22 frames (0.5 s apart): a car parked in the far lot at 36–44 m and a
+    /// person who walks into the gate zone near 12 m, back to 0.6 m outside its border (within
+    /// the demo perimeter's hysteresis), in again and out (the demo scene).
+    Perimeter,
 }
 
 impl Preset {
@@ -29,14 +34,21 @@ impl Preset {
             Preset::ParkingLot => "parking-lot",
             Preset::LongRange => "long-range",
             Preset::Moving => "moving",
+            Preset::Perimeter => "perimeter",
         }
     }
 }
 
 /// The objects of a layout; ids 1.. in placement order (objects of interest first).
 pub struct Layout {
-    /// Every object.
+    /// Every object, as at the first frame.
     pub objects: Vec<SceneObject>,
+    /// Scripted walks (the others move straight on at their velocity).
+    pub paths: Vec<Path>,
+    /// Frames to simulate.
+    pub frames: u16,
+    /// Time between frames, s.
+    pub frame_period_s: f64,
 }
 
 fn polar(range: f64, az: f64) -> [f64; 2] {
@@ -219,7 +231,7 @@ fn interest(preset: Preset, rng: &mut impl Rng) -> (&'static str, f64, f64) {
         _ => "sign",
     };
     let range = match (preset, class) {
-        (Preset::ParkingLot, _) => rng.random_range(3.0..60.0),
+        (Preset::ParkingLot | Preset::Perimeter, _) => rng.random_range(3.0..60.0),
         (Preset::LongRange, _) => rng.random_range(10.0..90.0),
         (Preset::Moving, "person") => rng.random_range(20.0..150.0),
         (Preset::Moving, _) => rng.random_range(20.0..300.0),
@@ -234,6 +246,9 @@ fn interest(preset: Preset, rng: &mut impl Rng) -> (&'static str, f64, f64) {
 
 /// Draws a layout for `preset`; returns it with the largest object-of-interest depth.
 pub fn draw(preset: Preset, rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64) {
+    if preset == Preset::Perimeter {
+        return perimeter(rng, max_range);
+    }
     let count = if rng.random_range(0.0..1.0) < 0.3 {
         2
     } else {
@@ -252,54 +267,137 @@ pub fn draw(preset: Preset, rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) 
         let heading = p.rng.random_range(0.0..2.0 * PI);
         let velocity = [speed * heading.sin(), speed * heading.cos()];
         if p.try_place(class, range - 0.5..range + 0.5, -22.0..22.0, velocity) {
-            let o = p.objects.last().map(|o| (o.centre(), radius(&o.shape)));
-            if let Some((c, r)) = o {
-                let range = c[0].hypot(c[1]);
-                p.keep_clear
-                    .push((range, c[0].atan2(c[1]), half_span(r, range)));
-            }
+            p.keep_clear_of_last();
         }
     }
-    // The paper's failure case: a strong reflector at another azimuth and another range.
-    let targets = p.keep_clear.clone();
-    for &(range, az, span) in &targets {
-        if p.rng.random_range(0.0..1.0) < 0.75 {
-            let side = if p.rng.random_range(0.0..1.0) < 0.5 {
-                -1.0
-            } else {
-                1.0
-            };
-            let off = span.to_degrees() + p.rng.random_range(3.0..12.0);
-            let dr = p.rng.random_range(2.0..12.0)
-                * if p.rng.random_range(0.0..1.0) < 0.5 {
+    p.clutter();
+    let layout = Layout {
+        objects: p.objects,
+        paths: Vec::new(),
+        frames: 1,
+        frame_period_s: 0.1,
+    };
+    (layout, deepest)
+}
+
+/// The perimeter preset: a parked car in the far lot and a scripted walker at the gate.
+fn perimeter(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64) {
+    const FRAMES: u16 = 22;
+    let car_range = rng.random_range(36.0..44.0);
+    let mut p = Placer {
+        rng,
+        objects: Vec::new(),
+        keep_clear: Vec::new(),
+        max_range: max_range(car_range),
+    };
+    if p.try_place(
+        "car",
+        car_range - 0.5..car_range + 0.5,
+        -8.0..12.0,
+        [0.0; 2],
+    ) {
+        p.keep_clear_of_last();
+    }
+    // The gate's border is at x = −3 m: in to −1, back out to −3.6 (inside the hysteresis), in
+    // to −1.5 and away to −6.
+    let z = p.rng.random_range(11.5..12.5);
+    let waypoints: Vec<[f64; 2]> = [-6.0, -1.0, -3.6, -1.5, -6.0]
+        .iter()
+        .map(|&x| [x, z])
+        .collect();
+    let shape = p.shape("person", waypoints[0]);
+    p.push("person", shape, [0.0; 2]);
+    let id = p.next_id() - 1;
+    // The car gets the failure case; the walker's path stays clear (below).
+    let car = p.keep_clear.clone();
+    p.side_lobe_clutter(&car);
+    // Nothing in front of, on or within 20 m behind the walk: the demo shows the perimeter, not
+    // the hard case of a weak walker in front of a wall (the eval presets have that).
+    for x in (-12..=-2).map(|k| f64::from(k) / 2.0) {
+        let range = x.hypot(z);
+        p.keep_clear
+            .push((range + 20.0, x.atan2(z), half_span(0.6, range)));
+    }
+    p.background_clutter();
+    let path = Path {
+        id,
+        waypoints,
+        speed: 1.4,
+    };
+    let layout = Layout {
+        objects: p.objects,
+        paths: vec![path],
+        frames: FRAMES,
+        frame_period_s: 0.5,
+    };
+    (layout, car_range)
+}
+
+impl<R: Rng> Placer<'_, R> {
+    /// Keeps the line of sight to the object placed last clear of clutter.
+    fn keep_clear_of_last(&mut self) {
+        let o = self.objects.last().map(|o| (o.centre(), radius(&o.shape)));
+        if let Some((c, r)) = o {
+            let range = c[0].hypot(c[1]);
+            self.keep_clear
+                .push((range, c[0].atan2(c[1]), half_span(r, range)));
+        }
+    }
+
+    /// The clutter around the objects of interest: [`Self::side_lobe_clutter`], then
+    /// [`Self::background_clutter`].
+    fn clutter(&mut self) {
+        let targets = self.keep_clear.clone();
+        self.side_lobe_clutter(&targets);
+        self.background_clutter();
+    }
+
+    /// The paper's failure case for most `targets` (range, azimuth, half-span): a strong
+    /// reflector at another azimuth (3–12° outside the span) and another range (2–12 m).
+    fn side_lobe_clutter(&mut self, targets: &[(f64, f64, f64)]) {
+        for &(range, az, span) in targets {
+            if self.rng.random_range(0.0..1.0) < 0.75 {
+                let side = if self.rng.random_range(0.0..1.0) < 0.5 {
                     -1.0
                 } else {
                     1.0
                 };
-            let class = ["pole", "wall", "building", "vehicle_parked"][p.rng.random_range(0..4)];
-            let r = (range + dr).max(3.0);
-            let a = az.to_degrees() + side * off;
-            p.try_place(class, r - 1.0..r + 1.0, a - 1.0..a + 1.0, [0.0, 0.0]);
+                let off = span.to_degrees() + self.rng.random_range(3.0..12.0);
+                let dr = self.rng.random_range(2.0..12.0)
+                    * if self.rng.random_range(0.0..1.0) < 0.5 {
+                        -1.0
+                    } else {
+                        1.0
+                    };
+                let class =
+                    ["pole", "wall", "building", "vehicle_parked"][self.rng.random_range(0..4)];
+                let r = (range + dr).max(3.0);
+                let a = az.to_degrees() + side * off;
+                self.try_place(class, r - 1.0..r + 1.0, a - 1.0..a + 1.0, [0.0, 0.0]);
+            }
         }
     }
-    let far = p.max_range * 0.9;
-    let n = |rng: &mut dyn rand::RngCore, lo: usize, hi: usize| {
-        (rng.next_u32() as usize % (hi - lo + 1)) + lo
-    };
-    let buildings = n(p.rng, 0, 2);
-    for _ in 0..buildings {
-        p.try_place("building", 15.0..far.max(16.0), -60.0..60.0, [0.0, 0.0]);
-    }
-    for (class, lo, hi) in [
-        ("pole", 1, 5),
-        ("vehicle_parked", 1, 4),
-        ("tree", 0, 3),
-        ("fence", 0, 1),
-        ("wall", 0, 1),
-    ] {
-        for _ in 0..n(p.rng, lo, hi) {
-            p.try_place(class, 4.0..far.max(5.0), -60.0..60.0, [0.0, 0.0]);
+
+    /// Buildings, poles, parked vehicles, trees, a fence and a wall anywhere in view.
+    fn background_clutter(&mut self) {
+        let far = self.max_range * 0.9;
+        let n = |rng: &mut dyn rand::RngCore, lo: usize, hi: usize| {
+            (rng.next_u32() as usize % (hi - lo + 1)) + lo
+        };
+        let buildings = n(self.rng, 0, 2);
+        for _ in 0..buildings {
+            self.try_place("building", 15.0..far.max(16.0), -60.0..60.0, [0.0, 0.0]);
+        }
+        for (class, lo, hi) in [
+            ("pole", 1, 5),
+            ("vehicle_parked", 1, 4),
+            ("tree", 0, 3),
+            ("fence", 0, 1),
+            ("wall", 0, 1),
+        ] {
+            for _ in 0..n(self.rng, lo, hi) {
+                self.try_place(class, 4.0..far.max(5.0), -60.0..60.0, [0.0, 0.0]);
+            }
         }
     }
-    (Layout { objects: p.objects }, deepest)
 }

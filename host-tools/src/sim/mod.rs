@@ -7,6 +7,7 @@
 
 pub mod camera;
 pub mod layout;
+pub mod motion;
 pub mod object;
 pub mod radar;
 pub mod shape;
@@ -64,59 +65,72 @@ fn scene_seed(seed: u64, index: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// A simulated scene, in memory.
-pub struct SimulatedScene {
-    /// The objects (ids as in the camera products).
-    pub objects: Vec<object::SceneObject>,
-    /// Radar configuration.
-    pub radar: dsp::config::RadarConfig,
-    /// Camera configuration.
-    pub camera: CameraConfig,
-    /// `radar.bin` bytes (one frame).
-    pub adc: Vec<u8>,
+/// What the camera saw in one frame.
+pub struct Shot {
     /// The rendered truth (ids and camera depth per pixel).
     pub render: camera::Render,
     /// Segmenter and monocular-depth outputs.
     pub products: camera::CameraProducts,
-    /// Instances of frame 0.
+    /// The instances the segmenter saw.
     pub instances: Vec<Instance>,
-    /// Ground truth.
+}
+
+/// A simulated scene, in memory.
+pub struct SimulatedScene {
+    /// The objects as at the first frame (ids as in the camera products).
+    pub objects: Vec<object::SceneObject>,
+    /// Radar configuration (its `frames` and `frame_period_s` say how many and how often).
+    pub radar: dsp::config::RadarConfig,
+    /// Camera configuration.
+    pub camera: CameraConfig,
+    /// `radar.bin` bytes, every frame.
+    pub adc: Vec<u8>,
+    /// The camera products of every frame.
+    pub shots: Vec<Shot>,
+    /// Ground truth, every frame.
     pub truth: Truth,
 }
 
-/// Simulates scene `index` of a run with seed `seed`.
+/// Simulates scene `index` of a run with seed `seed`: every frame of its layout (one, except
+/// for the perimeter preset), objects moved along their paths or velocities between frames.
 pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
-    let config = radar::config(kind, radar::max_range_for(deepest), loops);
+    let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
+    config.frames = u32::from(layout.frames);
+    config.frame_period_s = layout.frame_period_s;
     let extra = ground(&mut rng, config.max_range().0 as f64);
-    let echoes = signal::echoes(&layout.objects, &extra, &config);
-    let adc = signal::synthesize(&config, &echoes, &mut rng);
     let camera = camera_config();
     let model = CameraModel::new(&camera);
-    let render = camera::render(&model, &layout.objects);
-    let products = camera::products(&render, camera.width, camera.height, &mut rng);
-    let visible: std::collections::BTreeSet<u16> =
-        products.mask.iter().copied().filter(|&i| i != 0).collect();
-    let instances: Vec<Instance> = layout
-        .objects
-        .iter()
-        .filter(|o| visible.contains(&o.id))
-        .map(|o| Instance {
-            id: o.id,
-            class: o.class.to_owned(),
-        })
-        .collect();
-    let objects = layout
-        .objects
-        .iter()
-        .filter(|o| visible.contains(&o.id) && matches!(o.class, "car" | "person" | "sign"))
-        .map(|o| truth_object(o, &render, &model, &camera))
-        .collect();
-    let truth = Truth {
-        frames: vec![TruthFrame {
-            frame: 0,
+    let mut adc = Vec::new();
+    let mut shots = Vec::new();
+    let mut frames = Vec::new();
+    for f in 0..layout.frames {
+        let t = f64::from(f) * layout.frame_period_s;
+        let objects = motion::at(&layout.objects, &layout.paths, t);
+        let echoes = signal::echoes(&objects, &extra, &config);
+        adc.extend(signal::synthesize(&config, &echoes, &mut rng));
+        let render = camera::render(&model, &objects);
+        let products = camera::products(&render, camera.width, camera.height, &mut rng);
+        let visible: std::collections::BTreeSet<u16> =
+            products.mask.iter().copied().filter(|&i| i != 0).collect();
+        let seen = |o: &&object::SceneObject| visible.contains(&o.id);
+        let instances = objects
+            .iter()
+            .filter(seen)
+            .map(|o| Instance {
+                id: o.id,
+                class: o.class.to_owned(),
+            })
+            .collect();
+        let truth_objects = objects
+            .iter()
+            .filter(|o| seen(o) && matches!(o.class, "car" | "person" | "sign"))
+            .map(|o| truth_object(o, &render, &model, &camera))
+            .collect();
+        frames.push(TruthFrame {
+            frame: u32::from(f),
             ego: Ego {
                 x: 0.0,
                 z: 0.0,
@@ -124,18 +138,21 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
                 vx: 0.0,
                 vz: 0.0,
             },
-            objects,
-        }],
-    };
+            objects: truth_objects,
+        });
+        shots.push(Shot {
+            render,
+            products,
+            instances,
+        });
+    }
     SimulatedScene {
         objects: layout.objects,
         radar: config,
         camera,
         adc,
-        render,
-        products,
-        instances,
-        truth,
+        shots,
+        truth: Truth { frames },
     }
 }
 
@@ -198,9 +215,7 @@ pub fn simulate_one(
             radar: &s.radar,
             camera: &s.camera,
             adc: &s.adc,
-            mask: &s.products.mask,
-            depth: &s.products.depth_png,
-            instances: &s.instances,
+            shots: &s.shots,
             truth: &s.truth,
         },
     )

@@ -47,6 +47,21 @@ impl SceneObject {
         (self.velocity[0] * p.x + self.velocity[1] * p.z) / r
     }
 
+    /// The object moved so its footprint centre is at `centre`, moving with `velocity` (m/s):
+    /// its pose in a later frame.
+    pub fn placed(&self, centre: [f64; 2], velocity: [f64; 2]) -> SceneObject {
+        let c = self.centre();
+        let d = [centre[0] - c[0], centre[1] - c[1]];
+        let mut o = self.clone();
+        o.shape = self.shape.translated(d);
+        o.velocity = velocity;
+        for s in &mut o.scatterers {
+            s.position.x += d[0];
+            s.position.z += d[1];
+        }
+        o
+    }
+
     /// Centre of the footprint.
     pub fn centre(&self) -> [f64; 2] {
         match self.shape {

@@ -62,6 +62,17 @@ impl Shape {
         }
     }
 
+    /// The same shape moved by `d` in the x–z plane, m.
+    pub fn translated(&self, d: [f64; 2]) -> Shape {
+        let mv = |p: [f64; 2]| [p[0] + d[0], p[1] + d[1]];
+        let mut s = self.clone();
+        match &mut s {
+            Shape::Box { centre, .. } | Shape::Cylinder { centre, .. } => *centre = mv(*centre),
+            Shape::Panel { a, b, .. } => (*a, *b) = (mv(*a), mv(*b)),
+        }
+        s
+    }
+
     /// The footprint's boundary segments (boxes and panels).
     pub fn segments(&self) -> Vec<([f64; 2], [f64; 2])> {
         match *self {

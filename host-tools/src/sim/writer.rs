@@ -1,6 +1,6 @@
 //! Writing a scene bundle exactly as bundle.md lays it out.
 
-use crate::bundle::{ADC_LAYOUT, CameraConfig, FORMAT, Instance, Truth};
+use crate::bundle::{ADC_LAYOUT, CameraConfig, FORMAT, Truth};
 use dsp::config::RadarConfig;
 use std::path::Path;
 
@@ -77,14 +77,10 @@ pub struct BundleContents<'a> {
     pub radar: &'a RadarConfig,
     /// Camera configuration.
     pub camera: &'a CameraConfig,
-    /// `radar.bin` bytes.
+    /// `radar.bin` bytes, every frame.
     pub adc: &'a [u8],
-    /// Frame 0 instance mask.
-    pub mask: &'a [u16],
-    /// Frame 0 monocular depth (metres × 256).
-    pub depth: &'a [u16],
-    /// Frame 0 instances.
-    pub instances: &'a [Instance],
+    /// The camera products of every frame.
+    pub shots: &'a [super::Shot],
     /// Ground truth.
     pub truth: &'a Truth,
 }
@@ -100,21 +96,16 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), String> {
     std::fs::write(&p, scene_toml(b.name, b.radar, b.camera)).map_err(|e| io(&p, e))?;
     let p = dir.join("radar.bin");
     std::fs::write(&p, b.adc).map_err(|e| io(&p, e))?;
-    png16(
-        &cam.join("000000_mask.png"),
-        b.camera.width,
-        b.camera.height,
-        b.mask,
-    )?;
-    png16(
-        &cam.join("000000_depth.png"),
-        b.camera.width,
-        b.camera.height,
-        b.depth,
-    )?;
-    let p = cam.join("000000_instances.json");
-    let json = serde_json::json!({ "instances": b.instances });
-    std::fs::write(&p, serde_json::to_vec(&json).map_err(|e| io(&p, e))?).map_err(|e| io(&p, e))?;
+    for (f, shot) in b.shots.iter().enumerate() {
+        let paths = crate::bundle::CameraPaths::new(dir, f as u32);
+        let (w, h) = (b.camera.width, b.camera.height);
+        png16(&paths.mask, w, h, &shot.products.mask)?;
+        png16(&paths.depth, w, h, &shot.products.depth_png)?;
+        let p = &paths.instances;
+        let json = serde_json::json!({ "instances": shot.instances });
+        std::fs::write(p, serde_json::to_vec(&json).map_err(|e| io(p, e))?)
+            .map_err(|e| io(p, e))?;
+    }
     let p = dir.join("truth.json");
     std::fs::write(&p, serde_json::to_vec(b.truth).map_err(|e| io(&p, e))?).map_err(|e| io(&p, e))
 }
