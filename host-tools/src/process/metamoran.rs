@@ -3,7 +3,7 @@
 //! the depth search, and depth imaging (Sec. IV).
 
 use super::ObjectResult;
-use super::camera_points::{CameraObject, shift_to_depth};
+use super::camera_points::CameraObject;
 use crate::geometry::{Point, azimuth, range_xz};
 use dsp::clutter::peaks::{MAX_PEAKS, Peak};
 use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
@@ -516,7 +516,7 @@ pub fn merge(
     match best {
         Some(r) if r.detected() => {
             let depth = r.depth_m();
-            let points = reject_edges(shift_to_depth(&obj.points, depth));
+            let points = reject_edges(obj.anchored(depth));
             ObjectResult {
                 confidence_db: Some(r.confidence as f64 / 4.0),
                 ..ObjectResult::found(obj, depth, obj.median_azimuth(), points)

@@ -2,7 +2,7 @@
 //! FMCW range–azimuth processing, and the strongest reflector inside the span is the object.
 
 use super::ObjectResult;
-use super::camera_points::{CameraObject, shift_to_depth};
+use super::camera_points::CameraObject;
 use crate::frame::FrameProcessor;
 use dsp::config::azimuth_bin_to_angle;
 use dsp::detect::quadratic_offset;
@@ -86,5 +86,5 @@ pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) ->
     let depth = c.bin_to_range(RangeBin(b as f32 + off), ra.bins).0 as f64;
     let azimuth = azimuth_bin_to_angle(AzimuthBin(signed_bin(k, ra.az_len) as f32), ra.az_len)
         .map(|a| a.0 as f64);
-    ObjectResult::found(obj, depth, azimuth, shift_to_depth(&obj.points, depth))
+    ObjectResult::found(obj, depth, azimuth, obj.anchored(depth))
 }
