@@ -143,13 +143,7 @@ fn valid_bundle_reads_back_exactly() {
     assert_eq!(cam.depth_m(1, 0), Some(20.0 + 1.0 / 256.0));
     assert_eq!(b.truth.as_ref().unwrap().frames[0].objects[0].depth_m, 20.1);
     // The QQII option swaps the pairs.
-    let mut q = Bundle::open(
-        tmp.path(),
-        OpenOptions {
-            iq_order: IqOrder::Qqii,
-        },
-    )
-    .unwrap();
+    let mut q = Bundle::open(tmp.path(), OpenOptions::iq(IqOrder::Qqii)).unwrap();
     q.read_radar_frame(0, &mut s).unwrap();
     assert_eq!((s[0].re.0, s[0].im.0), (iq(0).1, iq(0).0));
 }

@@ -17,9 +17,9 @@ fn demo_alerts_images_and_points_match_the_truth() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
-    let report = run(&out, edge, None, None).unwrap();
+    let report = run(&out, edge, None, None, false).unwrap();
     // Safe to run twice into the same folder.
-    let again = run(&out, DemoEdge::InProcess, None, None).unwrap();
+    let again = run(&out, DemoEdge::InProcess, None, None, false).unwrap();
     assert_eq!(again.alerts, report.alerts, "the in-process edge disagrees");
 
     let scene = std::fs::read_dir(out.join("scene"))
@@ -30,35 +30,68 @@ fn demo_alerts_images_and_points_match_the_truth() {
         .path();
     let truth: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(scene.join("truth.json")).unwrap()).unwrap();
-    let objects = truth["frames"][0]["objects"].as_array().unwrap();
-    assert!(objects.len() >= 2);
+    let frames = truth["frames"].as_array().unwrap();
+    assert_eq!(report.frames, frames.len());
+    assert!(frames.len() >= 10, "the demo is a multi-frame scene");
     let perimeter = Perimeter::load(&out.join("perimeter.toml")).unwrap();
-    // Expected alerts from the truth positions (restricted classes, strictly inside a zone).
-    let mut expected = Vec::new();
-    for o in objects {
-        let (d, az) = (
-            o["depth_m"].as_f64().unwrap(),
-            o["azimuth_deg"].as_f64().unwrap().to_radians(),
-        );
-        let class = o["class"].as_str().unwrap();
-        for z in &perimeter.zones {
-            let inside = signed_distance(&z.polygon, [d * az.sin(), d * az.cos()]);
-            assert!(inside.abs() > 0.5, "truth too near a border to test");
-            if inside > 0.0 && perimeter.restricted_classes.iter().any(|c| c == class) {
-                expected.push((o["instance"].as_u64().unwrap() as u16, z.name.clone()));
+    // Expected alerts: the perimeter's rule run on the truth positions (restricted classes,
+    // enter at the border, leave `hysteresis_m` outside), and the same without hysteresis to
+    // show that the scene would make an object flap.
+    let expect = |hysteresis: f64| {
+        let mut inside = std::collections::HashMap::new();
+        let mut alerts = Vec::new();
+        for f in frames {
+            for o in f["objects"].as_array().unwrap() {
+                let class = o["class"].as_str().unwrap();
+                if !perimeter.restricted_classes.iter().any(|c| c == class) {
+                    continue;
+                }
+                let (d, az) = (
+                    o["depth_m"].as_f64().unwrap(),
+                    o["azimuth_deg"].as_f64().unwrap().to_radians(),
+                );
+                let id = o["instance"].as_u64().unwrap() as u16;
+                for z in &perimeter.zones {
+                    let s = signed_distance(&z.polygon, [d * az.sin(), d * az.cos()]);
+                    let state = inside.entry((id, z.name.clone())).or_insert(false);
+                    let kind = match (*state, s) {
+                        (false, s) if s >= 0.0 => AlertKind::Enter,
+                        (true, s) if s < -hysteresis => AlertKind::Exit,
+                        _ => continue,
+                    };
+                    *state = kind == AlertKind::Enter;
+                    alerts.push((
+                        id,
+                        z.name.clone(),
+                        kind,
+                        f["frame"].as_u64().unwrap() as u32,
+                    ));
+                }
             }
         }
-    }
-    assert!(!expected.is_empty());
+        alerts
+    };
+    let expected = expect(perimeter.hysteresis_m);
+    let flapping = expect(0.0);
+    assert!(
+        flapping.len() > expected.len(),
+        "the scene does not test hysteresis: {flapping:?}"
+    );
+    assert!(expected.iter().any(|a| a.2 == AlertKind::Exit));
     let got: Vec<_> = report
         .alerts
         .iter()
-        .map(|a| (a.instance, a.zone.clone()))
+        .map(|a| (a.instance, a.zone.clone(), a.kind))
         .collect();
-    assert_eq!(got, expected);
-    assert!(report.alerts.iter().all(|a| a.kind == AlertKind::Enter));
-    for a in &report.alerts {
-        let t = objects
+    let want: Vec<_> = expected.iter().map(|a| (a.0, a.1.clone(), a.2)).collect();
+    assert_eq!(got, want, "alerts {:?}", report.alerts);
+    for (a, e) in report.alerts.iter().zip(&expected) {
+        // Within a frame of the truth crossing (the radar depth and camera azimuth are close to,
+        // not exactly, the truth), with the object's depth then.
+        assert!(a.frame.abs_diff(e.3) <= 1, "{a:?} vs truth frame {}", e.3);
+        let t = frames[a.frame as usize]["objects"]
+            .as_array()
+            .unwrap()
             .iter()
             .find(|o| o["instance"] == a.instance)
             .unwrap();
@@ -67,6 +100,8 @@ fn demo_alerts_images_and_points_match_the_truth() {
             "{a:?}"
         );
     }
+    let objects = frames[0]["objects"].as_array().unwrap();
+    assert!(objects.len() >= 2);
 
     // The depth PNG: 16-bit grey, KITTI scale; each object's pixels near its true depth.
     let decoder = png::Decoder::new(std::io::BufReader::new(
@@ -157,21 +192,22 @@ fn check_recording(out: &std::path::Path, results: &serde_json::Value) {
             .iter()
             .all(|m| m["schema_encoding"] == "jsonschema" && m["message_encoding"] == "json")
     );
-    let frame = &results["frames"][0];
+    let frames = results["frames"].as_array().unwrap();
     let objects = on("/metamoran/objects");
-    assert_eq!(objects.len(), 1);
-    for (rec, want) in objects[0]["body"]["objects"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .zip(frame["objects"].as_array().unwrap())
-    {
-        assert_eq!(rec["instance"], want["instance"]);
-        assert_eq!(rec["depth_m"], want["depth_m"]);
-        assert_eq!(rec["points"], want["points"].as_array().unwrap().len());
+    assert_eq!(objects.len(), frames.len());
+    for (message, frame) in objects.iter().zip(frames) {
+        let recorded = message["body"]["objects"].as_array().unwrap();
+        let wanted = frame["objects"].as_array().unwrap();
+        assert_eq!(recorded.len(), wanted.len());
+        for (rec, want) in recorded.iter().zip(wanted) {
+            assert_eq!(rec["instance"], want["instance"]);
+            assert_eq!(rec["depth_m"], want["depth_m"]);
+            assert_eq!(rec["points"], want["points"].as_array().unwrap().len());
+        }
     }
+    let frame = &frames[0];
     let clouds = on("/metamoran/points");
-    assert_eq!(clouds.len(), 1);
+    assert_eq!(clouds.len(), frames.len());
     assert_eq!(clouds[0]["schema"], "foxglove.PointCloud");
     let got = clouds[0]["points"].as_array().unwrap();
     let want: Vec<(f64, f64, f64, f64)> = frame["objects"]

@@ -1,24 +1,27 @@
 //! `metamoran demo`: the whole system on a built-in scene, no hardware.
 //!
-//! Simulated radar frames of a parking lot stream into the module (the firmware under QEMU when
-//! `qemu-system-arm` and the firmware sources are here, else the same `dsp` pipeline in this
-//! process, and the report says which), its results come back over the authenticated telemetry
-//! link, the host fuses them with the camera, the perimeter raises alerts, and the operator view
-//! is printed. Everything it makes goes to one folder.
+//! Simulated radar frames of a watched perimeter stream into the module (the firmware under
+//! QEMU when `qemu-system-arm` and the firmware sources are here, else the same `dsp` pipeline
+//! in this process, and the report says which). As each frame's results come back over the
+//! authenticated telemetry link, the host fuses them with the camera, the perimeter raises
+//! alerts, MQTT publishes them and the live view redraws; the final operator view is printed.
+//! Everything it makes goes to one folder.
 
 use crate::bundle::OpenOptions;
 use crate::depth_image::{kitti_depth, write_ply, write_png16};
 use crate::geofence::{Alert, Geofence, Perimeter};
 use crate::geometry::CameraModel;
-use crate::process::{EdgeKind, Mode, ProcessOutput, process_logged};
+use crate::live::{LiveView, OperatorState};
+use crate::process::{EdgeKind, FrameEvent, Mode, ProcessOutput, process_streamed};
 use crate::sim::{layout::Preset, radar::RadarKind};
 use clap::ValueEnum;
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// The built-in scene: a cascade-radar parking lot with a car and a person about 40 m out.
-pub const SCENE: (Preset, RadarKind, u64) = (Preset::ParkingLot, RadarKind::Cascade, 3);
+/// The built-in scene: a cascade radar watching a perimeter for 11 s, a car parked in the far
+/// lot and a person who walks into the gate zone, lingers at its border and leaves.
+pub const SCENE: (Preset, RadarKind, u64) = (Preset::Perimeter, RadarKind::Cascade, 3);
 
 /// The built-in perimeter, written to `OUT/perimeter.toml` when none is given.
 pub const PERIMETER: &str = r#"# Perimeter for `metamoran demo` (see README, "Geofencing").
@@ -32,7 +35,7 @@ polygon = [[-10.0, 30.0], [20.0, 30.0], [20.0, 55.0], [-10.0, 55.0]]
 
 [[zone]]
 name = "gate"
-polygon = [[-4.0, 2.0], [4.0, 2.0], [4.0, 12.0], [-4.0, 12.0]]
+polygon = [[-3.0, 8.0], [3.0, 8.0], [3.0, 16.0], [-3.0, 16.0]]
 "#;
 
 /// Where the module runs.
@@ -71,6 +74,8 @@ pub struct DemoReport {
     pub out: PathBuf,
     /// Where the module ran, in words.
     pub edge: String,
+    /// Frames processed.
+    pub frames: usize,
     /// Objects of the last frame.
     pub tracks: Vec<Track>,
     /// Every alert, in order.
@@ -87,9 +92,12 @@ impl fmt::Display for DemoReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "metamoran demo: built-in parking-lot scene, module {}",
+            "metamoran demo: built-in {} scene, {} frames, module {}",
+            SCENE.0.name(),
+            self.frames,
             self.edge
         )?;
+        writeln!(f, "\nobjects of the last frame:")?;
         writeln!(
             f,
             "\n{:>4}  {:<7} {:>9} {:>8} {:>8}  zones",
@@ -141,7 +149,71 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
 }
 
-/// Runs the demo into `out` (created; its earlier demo files are replaced).
+/// What the demo shows as each frame arrives: the perimeter's state, the alerts, the MQTT
+/// publisher and the live view.
+struct Operator<'a> {
+    fence: Geofence,
+    state: OperatorState,
+    period_s: f64,
+    publisher: Option<&'a crate::mqtt::Publisher>,
+    view: Option<&'a mut LiveView>,
+    /// When the first frame was sent (the live view paces the frames from it).
+    started: std::time::Instant,
+}
+
+impl Operator<'_> {
+    /// The tracks of one frame's objects, with the zones they are in now.
+    fn tracks(&self, objects: &[crate::process::ObjectResult]) -> Vec<Track> {
+        objects
+            .iter()
+            .map(|o| Track {
+                instance: o.instance,
+                class: o.class.clone(),
+                depth_m: o.depth_m,
+                azimuth_deg: o.azimuth_deg,
+                confidence_db: o.confidence_db,
+                zones: self
+                    .fence
+                    .zones_of(o.instance)
+                    .into_iter()
+                    .map(String::from)
+                    .collect(),
+            })
+            .collect()
+    }
+
+    /// Folds in one frame: zones and alerts, MQTT, the view.
+    fn frame(&mut self, e: FrameEvent<'_>) -> Result<(), String> {
+        let f = e.result;
+        let time_s = f64::from(f.frame) * self.period_s;
+        let alerts = self.fence.update(f.frame, time_s, &f.objects);
+        let tracks = self.tracks(&f.objects);
+        if let Some(p) = self.publisher {
+            p.frame(f)?;
+            for a in &alerts {
+                p.alert(a)?;
+            }
+        }
+        let s = &mut self.state;
+        s.frames_seen += 1;
+        s.frames = e.of;
+        s.time_s = time_s;
+        s.alerts.extend(alerts);
+        s.link.update(s.frames_seen, e.latency, e.link);
+        s.tracks = tracks;
+        let Some(view) = self.view.as_deref_mut() else {
+            return Ok(());
+        };
+        view.show(&self.state)?;
+        // Live, the scene plays at its own frame rate, as a sensor would deliver it.
+        let due = self.started + std::time::Duration::from_secs_f64(time_s + self.period_s);
+        std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
+        Ok(())
+    }
+}
+
+/// Runs the demo into `out` (created; its earlier demo files are replaced). With `live`, the
+/// operator view is drawn on this terminal as each frame arrives.
 ///
 /// # Errors
 /// A message saying what failed and what to do.
@@ -150,6 +222,7 @@ pub fn run(
     edge: DemoEdge,
     perimeter: Option<&Path>,
     mqtt: Option<&crate::mqtt::MqttConfig>,
+    live: bool,
 ) -> Result<DemoReport, String> {
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
@@ -174,47 +247,68 @@ pub fn run(
     let (preset, radar, seed) = SCENE;
     let dirs = crate::sim::simulate(preset, radar, seed, 1, &scenes, false)?;
     let bundle = dirs.first().ok_or("the simulator wrote no scene")?;
-
-    let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
     let opts = OpenOptions::default();
-    let qemu_here = crate::qemu::available();
-    let run_on = |kind| process_logged(bundle, Mode::Metamoran, opts, kind, key.clone());
-    let ((output, log), edge_words) = match edge {
-        DemoEdge::InProcess => (run_on(EdgeKind::InProcess)?, "in this process (--edge in-process)".to_owned()),
-        DemoEdge::Qemu => (run_on(EdgeKind::Qemu)?, "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned()),
-        DemoEdge::Auto if qemu_here => match run_on(EdgeKind::Qemu) {
-            Ok(r) => (r, "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned()),
-            Err(e) => (
-                run_on(EdgeKind::InProcess)?,
-                format!("in this process: QEMU could not run the firmware ({e})"),
-            ),
-        },
-        DemoEdge::Auto => (
-            run_on(EdgeKind::InProcess)?,
-            "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)"
-                .to_owned(),
-        ),
-    };
-
-    let mut fence = Geofence::new(perimeter);
-    let mut alerts = Vec::new();
-    // The bundle the module just processed: its frame period and camera.
-    let scene = crate::bundle::Bundle::open(bundle, opts)
+    // The bundle the module will process: its frame period and camera.
+    let scene = crate::bundle::Bundle::open(bundle, opts.clone())
         .map_err(|e| e.to_string())?
         .scene;
     let period = scene.radar.frame_period_s;
-    for f in &output.frames {
-        alerts.extend(fence.update(f.frame, f.frame as f64 * period, &f.objects));
-    }
-    let published = match mqtt {
-        Some(config) => {
-            let publisher = crate::mqtt::Publisher::connect(config)?;
-            for f in &output.frames {
-                publisher.frame(f)?;
-            }
-            for a in &alerts {
-                publisher.alert(a)?;
-            }
+
+    let publisher = mqtt.map(crate::mqtt::Publisher::connect).transpose()?;
+    let mut view = if live { Some(LiveView::start()?) } else { None };
+    let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
+    let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)";
+    let mut run_on = |kind, words: &str| {
+        let mut op = Operator {
+            fence: Geofence::new(perimeter.clone()),
+            state: OperatorState {
+                title: format!(
+                    "metamoran demo: built-in {} scene ({} frames)",
+                    preset.name(),
+                    scene.radar.frames
+                ),
+                edge: words.to_owned(),
+                ..OperatorState::default()
+            },
+            period_s: period,
+            publisher: publisher.as_ref(),
+            view: view.as_mut(),
+            started: std::time::Instant::now(),
+        };
+        let r = process_streamed(
+            bundle,
+            Mode::Metamoran,
+            opts.clone(),
+            kind,
+            key.clone(),
+            |e| op.frame(e),
+        )?;
+        Ok::<_, String>((r, op.state))
+    };
+    let ((output, log), state) = match edge {
+        DemoEdge::InProcess => run_on(EdgeKind::InProcess, "in this process (--edge in-process)")?,
+        DemoEdge::Qemu => run_on(EdgeKind::Qemu, qemu_words)?,
+        DemoEdge::Auto if crate::qemu::available() => match run_on(EdgeKind::Qemu, qemu_words) {
+            Ok(r) => r,
+            Err(e) => run_on(
+                EdgeKind::InProcess,
+                &format!("in this process: QEMU could not run the firmware ({e})"),
+            )?,
+        },
+        DemoEdge::Auto => run_on(
+            EdgeKind::InProcess,
+            "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)",
+        )?,
+    };
+    drop(view);
+    let OperatorState {
+        edge: edge_words,
+        tracks,
+        alerts,
+        ..
+    } = state;
+    let published = match (mqtt, publisher) {
+        (Some(config), Some(publisher)) => {
             publisher.close()?;
             Some(format!(
                 "{} frame(s) and {} alert(s) to mqtt://{}:{} under {}",
@@ -225,29 +319,8 @@ pub fn run(
                 config.topic("#")
             ))
         }
-        None => None,
+        _ => None,
     };
-    let tracks = output
-        .frames
-        .last()
-        .map(|f| {
-            f.objects
-                .iter()
-                .map(|o| Track {
-                    instance: o.instance,
-                    class: o.class.clone(),
-                    depth_m: o.depth_m,
-                    azimuth_deg: o.azimuth_deg,
-                    confidence_db: o.confidence_db,
-                    zones: fence
-                        .zones_of(o.instance)
-                        .into_iter()
-                        .map(String::from)
-                        .collect(),
-                })
-                .collect()
-        })
-        .unwrap_or_default();
 
     let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
     files.extend(write_outputs(
@@ -285,6 +358,7 @@ pub fn run(
     let mut report = DemoReport {
         out: out.to_path_buf(),
         edge: edge_words,
+        frames: output.frames.len(),
         tracks,
         alerts,
         link,

@@ -15,6 +15,7 @@ pub mod frame;
 pub mod geofence;
 pub mod geometry;
 pub mod inspect;
+pub mod live;
 pub mod mqtt;
 pub mod oracle;
 pub mod process;

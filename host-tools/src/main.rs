@@ -16,6 +16,33 @@ struct Cli {
     command: Command,
 }
 
+/// Camera models that compute a bundle's products from `camera/F_image.png`.
+#[derive(clap::Args, Debug)]
+struct ModelArgs {
+    /// ONNX semantic segmenter: input [1,3,H,W] RGB 0..1, output [1,C,H,W] class scores,
+    /// labels in its metadata 'labels' or MODEL.labels; replaces F_mask.png and
+    /// F_instances.json (connected regions of each class). Needs a build with --features onnx.
+    #[arg(long, value_name = "MODEL.onnx")]
+    segmenter: Option<PathBuf>,
+    /// ONNX monocular depth network: input [1,3,H,W] RGB 0..1, output [1,1,H,W] metres along
+    /// z; replaces F_depth.png. Needs a build with --features onnx.
+    #[arg(long, value_name = "MODEL.onnx")]
+    depth_model: Option<PathBuf>,
+}
+
+impl ModelArgs {
+    /// Bundle options with these models loaded.
+    fn options(&self, iq_order: IqOrder) -> Result<OpenOptions, String> {
+        Ok(OpenOptions {
+            iq_order,
+            camera_models: host_tools::bundle::CameraModels::load(
+                self.segmenter.as_deref(),
+                self.depth_model.as_deref(),
+            )?,
+        })
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum IqArg {
     /// I[2k], I[2k+1], Q[2k], Q[2k+1] (the bundle format's order)
@@ -56,7 +83,7 @@ enum Command {
     },
     /// Estimate each object of interest's depth in every frame of a scene bundle (cli.md).
     #[command(
-        after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json"
+        after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json\n  metamoran process site-07 --segmenter seg.onnx --depth-model depth.onnx --json   (needs --features onnx)"
     )]
     Process {
         /// The bundle folder.
@@ -85,6 +112,8 @@ enum Command {
         /// and P(d) plots per object (as `inspect`).
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        #[command(flatten)]
+        models: ModelArgs,
         /// Print the JSON document (cli.md) instead of a table.
         #[arg(long)]
         json: bool,
@@ -106,6 +135,8 @@ enum Command {
         /// I/Q order of radar.bin.
         #[arg(long, value_enum, default_value = "iiqq")]
         iq_order: IqArg,
+        #[command(flatten)]
+        models: ModelArgs,
         /// Print JSON instead of a summary.
         #[arg(long)]
         json: bool,
@@ -154,7 +185,7 @@ enum Command {
     /// (firmware under QEMU, or in-process where QEMU is absent), telemetry back, camera fusion,
     /// perimeter alerts, operator view; outputs in one folder.
     #[command(
-        after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json\n  metamoran demo --mqtt localhost:1883 --sensor gate-east"
+        after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json\n  metamoran demo --mqtt localhost:1883 --sensor gate-east\n  metamoran demo --no-live > operator.txt"
     )]
     Demo {
         /// Output folder (results.json, depth_0.png, points_0.ply, alerts.jsonl, operator.txt, …).
@@ -176,6 +207,10 @@ enum Command {
         /// Print JSON instead of the operator view.
         #[arg(long)]
         json: bool,
+        /// No live terminal view while frames arrive (it is on when stdout is a terminal and
+        /// --json is not given); the final operator view is printed either way.
+        #[arg(long)]
+        no_live: bool,
     },
     /// Summarize the built-in real TI capture (OpenRadar doppler_example_1) with the module's DSP.
     #[command(
@@ -248,8 +283,7 @@ fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<Ra
     match config {
         Some(cfg) => open_bare(path, cfg, order).map_err(|e| e.to_string()),
         None if path.is_dir() => {
-            let bundle =
-                Bundle::open(path, OpenOptions { iq_order: order }).map_err(|e| e.to_string())?;
+            let bundle = Bundle::open(path, OpenOptions::iq(order)).map_err(|e| e.to_string())?;
             RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order)
                 .map_err(|e| e.to_string())
         }
@@ -291,23 +325,18 @@ fn run(cli: Cli) -> Result<(), String> {
             link_key,
             edge_log,
             out: products,
+            models,
             json,
         } => {
+            let options = models.options(iq_order.into())?;
             let key = match link_key {
                 Some(hex) => {
                     dsp::wire::Key::from_hex(&hex).map_err(|e| format!("--link-key: {e}"))?
                 }
                 None => dsp::wire::Key::new(&dsp::wire::DEV_KEY),
             };
-            let (out, log) = host_tools::process::process_logged(
-                &bundle,
-                mode,
-                OpenOptions {
-                    iq_order: iq_order.into(),
-                },
-                edge,
-                key,
-            )?;
+            let (out, log) =
+                host_tools::process::process_logged(&bundle, mode, options.clone(), edge, key)?;
             if let Some(path) = edge_log {
                 let bytes = log.map(|l| l.defmt).ok_or(
                     "--edge-log: only the module under QEMU (--mode metamoran --edge qemu) logs",
@@ -316,9 +345,6 @@ fn run(cli: Cli) -> Result<(), String> {
                     .map_err(|e| format!("--edge-log {}: {e}", path.display()))?;
             }
             if let Some(dir) = products {
-                let options = OpenOptions {
-                    iq_order: iq_order.into(),
-                };
                 let files = host_tools::process::write_products(&dir, &bundle, options, &out)?;
                 eprintln!("wrote {} files to {}", files.len(), dir.display());
             }
@@ -353,16 +379,10 @@ fn run(cli: Cli) -> Result<(), String> {
             frame,
             out,
             iq_order,
+            models,
             json,
         } => print(
-            &host_tools::inspect::run(
-                &bundle,
-                frame,
-                &out,
-                OpenOptions {
-                    iq_order: iq_order.into(),
-                },
-            )?,
+            &host_tools::inspect::run(&bundle, frame, &out, models.options(iq_order.into())?)?,
             json,
         ),
         Command::Eval { dir, modes, json } => {
@@ -395,12 +415,14 @@ fn run(cli: Cli) -> Result<(), String> {
             mqtt,
             sensor,
             json,
+            no_live,
         } => {
             let mqtt = mqtt
                 .map(|b| host_tools::mqtt::MqttConfig::parse(&b, &sensor))
                 .transpose()?;
+            let live = !json && !no_live && std::io::IsTerminal::is_terminal(&std::io::stdout());
             print(
-                &host_tools::demo::run(&out, edge, perimeter.as_deref(), mqtt.as_ref())?,
+                &host_tools::demo::run(&out, edge, perimeter.as_deref(), mqtt.as_ref(), live)?,
                 json,
             )
         }

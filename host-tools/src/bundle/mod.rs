@@ -6,6 +6,7 @@
 //! frame.
 
 mod camera;
+pub mod camera_models;
 mod radar_file;
 mod scene;
 mod truth;
@@ -14,6 +15,7 @@ pub use camera::{
     CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, read_instances,
     read_png16,
 };
+pub use camera_models::{CameraModels, ImageProducts};
 pub use radar_file::RadarFile;
 pub use scene::{ADC_LAYOUT, CameraConfig, FORMAT, FramesField, Scene, parse_radar};
 pub use truth::{Ego, Truth, TruthFrame, TruthObject};
@@ -22,12 +24,26 @@ use crate::error::InputError;
 use dsp::capture::IqOrder;
 use dsp::fixed::CQ15;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// How to read a bundle.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct OpenOptions {
     /// I/Q order of `radar.bin` (the format says IIQQ; QQII reads devices with sample swap set).
     pub iq_order: IqOrder,
+    /// Models that compute the mask and instances, or the depth, from `camera/F_image.png`
+    /// instead of reading them from the bundle.
+    pub camera_models: Option<Arc<CameraModels>>,
+}
+
+impl OpenOptions {
+    /// Options with I/Q order `iq_order` and the camera products read from the bundle.
+    pub fn iq(iq_order: IqOrder) -> Self {
+        Self {
+            iq_order,
+            camera_models: None,
+        }
+    }
 }
 
 /// An opened, checked scene bundle.
@@ -40,6 +56,7 @@ pub struct Bundle {
     pub truth: Option<Truth>,
     instances: Vec<Vec<Instance>>,
     radar: RadarFile,
+    models: Option<Arc<CameraModels>>,
 }
 
 impl Bundle {
@@ -57,12 +74,28 @@ impl Bundle {
         let scene = Scene::read(&dir.join("scene.toml"))?;
         let radar = RadarFile::open(&scene.adc_file, scene.radar.clone(), options.iq_order)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
+        let models = options.camera_models.as_deref();
+        let segments = models.is_some_and(CameraModels::segments);
+        let estimates_depth = models.is_some_and(CameraModels::estimates_depth);
         let mut instances = Vec::new();
         for f in 0..scene.radar.frames {
             let p = CameraPaths::new(dir, f);
-            camera::check_png16_header(&p.mask, w, h)?;
-            camera::check_png16_header(&p.depth, w, h)?;
-            instances.push(read_instances(&p.instances)?);
+            if (segments || estimates_depth) && !p.image.is_file() {
+                return Err(InputError::file(
+                    &p.image,
+                    "is missing; the camera models compute the products from it (or drop \
+                     --segmenter/--depth-model to read the bundle's own)",
+                ));
+            }
+            if segments {
+                instances.push(Vec::new());
+            } else {
+                camera::check_png16_header(&p.mask, w, h)?;
+                instances.push(read_instances(&p.instances)?);
+            }
+            if !estimates_depth {
+                camera::check_png16_header(&p.depth, w, h)?;
+            }
         }
         let truth_path = dir.join("truth.json");
         let truth = if truth_path.exists() {
@@ -76,6 +109,7 @@ impl Bundle {
             truth,
             instances,
             radar,
+            models: options.camera_models,
         })
     }
 
@@ -89,7 +123,8 @@ impl Bundle {
         self.scene.radar.frames
     }
 
-    /// The instances of frame `frame` (empty past the last frame).
+    /// The instances of frame `frame` as `F_instances.json` lists them (empty past the last
+    /// frame, and where a segmenter makes them: see [`Bundle::camera_frame`]).
     pub fn instances(&self, frame: u32) -> &[Instance] {
         self.instances
             .get(frame as usize)
@@ -104,16 +139,26 @@ impl Bundle {
         self.radar.read_frame(frame, out)
     }
 
-    /// Decodes the camera products of frame `frame`, checking that every mask id is listed.
+    /// Decodes the camera products of frame `frame`, checking that every mask id is listed;
+    /// products the camera models make come from `F_image.png` instead.
     ///
     /// # Errors
-    /// [`InputError`] naming the file.
+    /// [`InputError`] naming the file (or the model that failed on it).
     pub fn camera_frame(&self, frame: u32) -> Result<CameraFrame, InputError> {
         let p = CameraPaths::new(&self.dir, frame);
         let (w, h) = (self.scene.camera.width, self.scene.camera.height);
-        let mask = read_png16(&p.mask, w, h)?;
-        let depth = read_png16(&p.depth, w, h)?;
-        let instances = self.instances(frame).to_vec();
+        let computed = match &self.models {
+            Some(m) => m.run(&p.image, w, h)?,
+            None => ImageProducts::default(),
+        };
+        let (mask, instances) = match computed.segmentation {
+            Some(s) => s,
+            None => (read_png16(&p.mask, w, h)?, self.instances(frame).to_vec()),
+        };
+        let depth = match computed.depth {
+            Some(d) => d,
+            None => read_png16(&p.depth, w, h)?,
+        };
         if let Some(id) = mask
             .iter()
             .find(|&&id| id != 0 && !instances.iter().any(|i| i.id == id))

@@ -154,10 +154,41 @@ pub fn process_logged(
     edge: EdgeKind,
     key: Key,
 ) -> Result<(ProcessOutput, Option<crate::edge::EdgeLog>), String> {
+    process_streamed(dir, mode, options, edge, key, |_| Ok(()))
+}
+
+/// One frame as it comes back, for views that update while a bundle is processed.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameEvent<'a> {
+    /// The frame's estimates.
+    pub result: &'a FrameResult,
+    /// Frames in the bundle.
+    pub of: u32,
+    /// Time from sending the frame's hints to the module to its results arriving (QEMU), or
+    /// the in-process search time.
+    pub latency: std::time::Duration,
+    /// The host's receive counters of the telemetry link (QEMU only).
+    pub link: Option<dsp::wire::LinkStats>,
+}
+
+/// [`process_logged`], calling `on_frame` as each frame's results arrive; an error it returns
+/// stops the run.
+///
+/// # Errors
+/// As [`process_on`], or `on_frame`'s.
+pub fn process_streamed(
+    dir: &Path,
+    mode: Mode,
+    options: OpenOptions,
+    edge: EdgeKind,
+    key: Key,
+    mut on_frame: impl FnMut(FrameEvent<'_>) -> Result<(), String>,
+) -> Result<(ProcessOutput, Option<crate::edge::EdgeLog>), String> {
+    let iq_order = options.iq_order;
     let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
     let mut module = match (mode, edge) {
         (Mode::Metamoran, EdgeKind::Qemu) => {
-            if options.iq_order != dsp::capture::IqOrder::Iiqq {
+            if iq_order != dsp::capture::IqOrder::Iiqq {
                 return Err("--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process".into());
             }
             let mut q = crate::edge::QemuEdge::start(&bundle.scene.adc_file, key)?;
@@ -178,6 +209,7 @@ pub fn process_logged(
     for f in 0..bundle.frames() {
         let cam = bundle.camera_frame(f).map_err(|e| e.to_string())?;
         let objects = objects_of_interest(&camera, &cam);
+        let started = std::time::Instant::now();
         let results = match mode {
             Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
             Mode::Metamoran => {
@@ -224,10 +256,17 @@ pub fn process_logged(
                     .collect()
             }
         };
-        frames.push(FrameResult {
+        let result = FrameResult {
             frame: f,
             objects: results,
-        });
+        };
+        on_frame(FrameEvent {
+            result: &result,
+            of: bundle.frames(),
+            latency: started.elapsed(),
+            link: module.as_ref().map(crate::edge::QemuEdge::link_stats),
+        })?;
+        frames.push(result);
     }
     let log = match module {
         Some(q) => {
