@@ -11,29 +11,14 @@
 
 use host_tools::bundle::{Bundle, CameraModels, CameraPaths, OpenOptions};
 use host_tools::process::{Mode, process};
-use metamoran_e2e::oracles_required;
+use metamoran_e2e::run_oracle;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// Writes the test models into a temporary folder (`None`: no venv, test skipped).
 fn models() -> Option<(tempfile::TempDir, PathBuf)> {
-    let Some(py) = host_tools::oracle::venv_python() else {
-        assert!(!oracles_required(), "the test venv (onnx) is required");
-        eprintln!("SKIPPED: no test venv for the ONNX models");
-        return None;
-    };
     let dir = tempfile::tempdir().unwrap();
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/oracles/camera_models.py");
-    let run = std::process::Command::new(py)
-        .arg(script)
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    run_oracle("camera_models.py", &[dir.path().as_os_str()], "onnx")?;
     let path = dir.path().to_owned();
     Some((dir, path))
 }

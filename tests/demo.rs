@@ -5,7 +5,7 @@
 
 use host_tools::demo::{DemoEdge, run};
 use host_tools::geofence::{AlertKind, Perimeter, signed_distance};
-use metamoran_e2e::{oracles_required, qemu_available};
+use metamoran_e2e::{oracles_required, qemu_available, run_oracle};
 
 #[test]
 fn demo_alerts_images_and_points_match_the_truth() {
@@ -167,23 +167,11 @@ fn demo_alerts_images_and_points_match_the_truth() {
 /// message and one point cloud per frame with results.json's depths and points, and every alert
 /// of alerts.jsonl, each with a JSON Schema and JSON messages.
 fn check_recording(out: &std::path::Path, results: &serde_json::Value) {
-    let Some(py) = host_tools::oracle::venv_python() else {
-        assert!(!oracles_required(), "the test venv (mcap) is required");
-        eprintln!("SKIPPED: no test venv for the MCAP reader");
+    let mcap = out.join("recording.mcap");
+    let Some(stdout) = run_oracle("read_mcap.py", &[mcap.as_os_str()], "the mcap reader") else {
         return;
     };
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/oracles/read_mcap.py");
-    let run = std::process::Command::new(py)
-        .arg(script)
-        .arg(out.join("recording.mcap"))
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let messages: Vec<serde_json::Value> = serde_json::from_slice(&run.stdout).unwrap();
+    let messages: Vec<serde_json::Value> = serde_json::from_slice(&stdout).unwrap();
     let on = |topic: &str| -> Vec<&serde_json::Value> {
         messages.iter().filter(|m| m["topic"] == topic).collect()
     };

@@ -32,3 +32,29 @@ pub fn top_k(x: &[f32], k: usize) -> Vec<usize> {
 pub fn qemu_available() -> bool {
     host_tools::qemu::available()
 }
+
+/// Runs Python oracle `tests/oracles/<script>` with `args` in the test venv; its stdout. `None`
+/// (the caller skips) when there is no venv and the oracles are not required; `what` names the
+/// package the oracle needs.
+pub fn run_oracle(script: &str, args: &[&std::ffi::OsStr], what: &str) -> Option<Vec<u8>> {
+    let Some(py) = host_tools::oracle::venv_python() else {
+        assert!(!oracles_required(), "the test venv ({what}) is required");
+        eprintln!("SKIPPED: no test venv for {what}");
+        return None;
+    };
+    let run = std::process::Command::new(py)
+        .arg(
+            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("oracles")
+                .join(script),
+        )
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{script}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    Some(run.stdout)
+}

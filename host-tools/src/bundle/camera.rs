@@ -132,6 +132,20 @@ fn check_png16<'b>(
             ),
         ));
     }
+    check_size(path, info, width, height)?;
+    Ok(reader)
+}
+
+/// Checks that a camera image is the size `scene.toml`'s `[camera]` gives.
+///
+/// # Errors
+/// [`InputError`] naming the file and both sizes.
+pub(super) fn check_size(
+    path: &Path,
+    info: &png::Info<'_>,
+    width: u32,
+    height: u32,
+) -> Result<(), InputError> {
     if (info.width, info.height) != (width, height) {
         return Err(InputError::file(
             path,
@@ -141,7 +155,7 @@ fn check_png16<'b>(
             ),
         ));
     }
-    Ok(reader)
+    Ok(())
 }
 
 /// Checks the header of a 16-bit grayscale PNG of the given size without decoding it.

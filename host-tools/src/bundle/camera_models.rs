@@ -57,15 +57,7 @@ pub fn read_rgb(path: &Path, width: u32, height: u32) -> Result<RgbSamples, Inpu
             ));
         }
     };
-    if (info.width, info.height) != (width, height) {
-        return Err(InputError::file(
-            path,
-            format!(
-                "is {}×{} pixels but scene.toml's [camera] says {width}×{height}",
-                info.width, info.height
-            ),
-        ));
-    }
+    super::camera::check_size(path, info, width, height)?;
     let n = width as usize * height as usize * channels;
     let mut buf = vec![0u8; n * if sixteen { 2 } else { 1 }];
     reader
