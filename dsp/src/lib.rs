@@ -11,6 +11,7 @@
 //! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;
 //! * [`detect`]: CA/OS-CFAR and peak interpolation;
 //! * [`search`]: contour templates and the depth search;
+//! * [`ego`]: the radar's and the vehicle's velocity from Doppler (dense radar mapping);
 //! * [`pipeline`]: the module's per-frame job (sums → spectra → SIC → search per object);
 //! * [`wire`]: the authenticated telemetry link between the module and the host;
 //!
@@ -29,6 +30,7 @@ pub mod clutter;
 pub mod config;
 pub mod detect;
 pub mod doppler;
+pub mod ego;
 pub mod fft;
 pub mod fixed;
 pub mod pipeline;
