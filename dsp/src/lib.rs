@@ -10,6 +10,7 @@
 //! * [`doppler`]: Doppler FFT and the range–Doppler map;
 //! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;
 //! * [`detect`]: CA/OS-CFAR and peak interpolation;
+//! * [`points`]: range–Doppler–azimuth–elevation point clouds;
 //! * [`search`]: contour templates and the depth search;
 //! * [`ego`]: the radar's and the vehicle's velocity from Doppler (dense radar mapping);
 //! * [`pipeline`]: the module's per-frame job (sums → spectra → SIC → search per object);
@@ -34,6 +35,7 @@ pub mod ego;
 pub mod fft;
 pub mod fixed;
 pub mod pipeline;
+pub mod points;
 pub mod range;
 pub mod search;
 pub mod trig;

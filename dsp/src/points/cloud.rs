@@ -1,0 +1,205 @@
+//! The point cloud of one frame: CFAR over the range–Doppler map, local maxima only, then the
+//! directions of each detected cell from its channel values.
+//!
+//! Range and radial velocity are interpolated between bins (parabola through the dB values of
+//! the map); the power is the cell's beam power, and `rcs_db` adds `40·log10(range)` (the
+//! radar equation's spreading loss) for a relative, uncalibrated RCS.
+
+use super::angles::{Direction, cell_directions};
+use super::geometry::ArrayGeometry;
+use crate::config::RadarConfig;
+use crate::detect::{Cfar2d, CfarError, quadratic_offset};
+use crate::doppler::{DopplerError, DopplerOptions, doppler_column};
+use crate::fft::Complex32;
+use crate::fixed::CQ15;
+use crate::range::RangeCube;
+use crate::units::{DopplerBin, RangeBin};
+use core::fmt;
+use libm::{cosf, log10f, sinf};
+
+/// How a frame becomes points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CloudOptions {
+    /// The detector over the range–Doppler map (Doppler wraps, range truncates).
+    pub cfar: Cfar2d,
+    /// Directions of a cell within this many dB of its strongest are points too.
+    pub direction_floor_db: f32,
+    /// Nearer detections are dropped (the radar's own leakage), m.
+    pub min_range_m: f32,
+}
+
+/// One point of the cloud.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RadarPoint {
+    /// Position in the radar frame (x right, y down, z forward), m.
+    pub position: [f32; 3],
+    /// Range, m.
+    pub range_m: f32,
+    /// Azimuth, rad, positive right.
+    pub azimuth: f32,
+    /// Elevation, rad, positive up.
+    pub elevation: f32,
+    /// Radial velocity, m/s, positive away.
+    pub radial_velocity_mps: f32,
+    /// Beam power, dB full scale.
+    pub power_db: f32,
+    /// Relative radar cross section, dB (uncalibrated: power + 40·log10 range).
+    pub rcs_db: f32,
+}
+
+impl RadarPoint {
+    fn new(range: f32, velocity: f32, d: Direction) -> Self {
+        let (ce, se) = (cosf(d.elevation), sinf(d.elevation));
+        Self {
+            position: [
+                range * ce * sinf(d.azimuth),
+                -range * se,
+                range * ce * cosf(d.azimuth),
+            ],
+            range_m: range,
+            azimuth: d.azimuth,
+            elevation: d.elevation,
+            radial_velocity_mps: velocity,
+            power_db: d.power_db,
+            rcs_db: d.power_db + 40.0 * log10f(range.max(1e-3)),
+        }
+    }
+}
+
+/// Why a frame's points could not be formed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointsError {
+    /// The detector could not run.
+    Cfar(CfarError),
+    /// A Doppler spectrum could not be formed.
+    Doppler(DopplerError),
+    /// A buffer has the wrong size (names which).
+    Buffer(&'static str),
+}
+
+impl fmt::Display for PointsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PointsError::Cfar(e) => write!(f, "CFAR: {e}"),
+            PointsError::Doppler(e) => write!(f, "Doppler: {e}"),
+            PointsError::Buffer(which) => write!(
+                f,
+                "the {which} buffer has the wrong size for this configuration"
+            ),
+        }
+    }
+}
+
+fn db(v: f32) -> f32 {
+    20.0 * log10f(v.max(1e-30))
+}
+
+/// Calls `emit` for every point of the frame in `cube`. `map` is its range–Doppler map
+/// (`bins × nd`, from [`crate::doppler::range_doppler_map`] with the same `doppler` options),
+/// `scratch` has the Doppler length `nd`, `spectra` holds `channels × nd` values (the Doppler
+/// spectra of one range bin). Returns the number of points. O(cells · window) for CFAR plus
+/// O(channels · nd log nd) per range bin with a detection.
+///
+/// # Errors
+/// [`PointsError`] on size mismatches.
+#[allow(clippy::too_many_arguments)]
+pub fn frame_points(
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[crate::fft::Exponent]>>,
+    config: &RadarConfig,
+    geom: &ArrayGeometry,
+    doppler: &DopplerOptions<'_>,
+    map: &[f32],
+    options: &CloudOptions,
+    scratch: &mut [CQ15],
+    spectra: &mut [Complex32],
+    mut emit: impl FnMut(RadarPoint),
+) -> Result<usize, PointsError> {
+    let (bins, nd, channels) = (cube.bins(), scratch.len(), geom.channels());
+    if map.len() != bins * nd {
+        return Err(PointsError::Buffer("range-Doppler map"));
+    }
+    if spectra.len() != channels * nd || cube.channels() != channels {
+        return Err(PointsError::Buffer("spectra"));
+    }
+    let nr = config.range_fft_len();
+    let at = |b: usize, d: usize| map[b * nd + d % nd];
+    let mut loaded = usize::MAX;
+    let mut failed = None;
+    let mut count = 0;
+    let mut values = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
+    options
+        .cfar
+        .detect(map, bins, nd, |det| {
+            if failed.is_some() {
+                return;
+            }
+            let (b, d) = (det.index / nd, det.index % nd);
+            // Local maxima of the map only (Doppler wraps, range truncates).
+            let v = det.value;
+            let higher = (-1i32..=1).any(|dr| {
+                (-1i32..=1).any(|dd| {
+                    let rb = b as i32 + dr;
+                    (dr, dd) != (0, 0)
+                        && rb >= 0
+                        && (rb as usize) < bins
+                        && at(rb as usize, (d as i32 + dd + nd as i32) as usize) > v
+                })
+            });
+            if higher {
+                return;
+            }
+            let range_off = if b > 0 && b + 1 < bins {
+                quadratic_offset(db(at(b - 1, d)), db(v), db(at(b + 1, d)))
+            } else {
+                0.0
+            };
+            let range = config.bin_to_range(RangeBin(b as f32 + range_off), nr).0;
+            if range < options.min_range_m {
+                return;
+            }
+            let dop_off = quadratic_offset(db(at(b, d + nd - 1)), db(v), db(at(b, d + 1)));
+            let signed = if d >= nd / 2 {
+                d as f32 - nd as f32
+            } else {
+                d as f32
+            };
+            let velocity = config
+                .doppler_to_velocity(DopplerBin(signed + dop_off), nd)
+                .0;
+            if loaded != b {
+                for ch in 0..channels {
+                    match doppler_column(cube, ch, b, doppler, scratch) {
+                        Ok(e) => {
+                            let scale = (1.0 / 32768.0) * e.scale_f32();
+                            for (o, z) in spectra[ch * nd..(ch + 1) * nd].iter_mut().zip(&*scratch)
+                            {
+                                *o = Complex32::new(
+                                    f32::from(z.re.0) * scale,
+                                    f32::from(z.im.0) * scale,
+                                );
+                            }
+                        }
+                        Err(e) => {
+                            failed = Some(PointsError::Doppler(e));
+                            return;
+                        }
+                    }
+                }
+                loaded = b;
+            }
+            for (ch, o) in values.iter_mut().enumerate().take(channels) {
+                *o = spectra[ch * nd + d];
+            }
+            count += cell_directions(
+                &values[..channels],
+                geom,
+                options.direction_floor_db,
+                |dir| emit(RadarPoint::new(range, velocity, dir)),
+            );
+        })
+        .map_err(PointsError::Cfar)?;
+    match failed {
+        Some(e) => Err(e),
+        None => Ok(count),
+    }
+}
