@@ -341,3 +341,41 @@ fn truth_violations_name_the_field() {
     });
     assert_names(&err, "truth.json", "frames[0].frame");
 }
+
+#[test]
+fn elevation_lists_are_optional_and_checked() {
+    // The README's extension: tx_elevation / rx_elevation in [radar], one per antenna.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("b");
+    host_tools::sim::simulate_one(
+        host_tools::sim::layout::Preset::ParkingLot,
+        host_tools::sim::radar::RadarKind::Xwr18xx,
+        1,
+        0,
+        &dir,
+    )
+    .unwrap();
+    let toml = std::fs::read_to_string(dir.join("scene.toml")).unwrap();
+    assert!(
+        !toml.contains("elevation"),
+        "version-1 bundles stay as they are"
+    );
+    let b = Bundle::open(&dir, OpenOptions::default()).unwrap();
+    assert!(b.scene.tx_elevation.is_empty() && b.scene.rx_elevation.is_empty());
+    let with = |line: &str| {
+        std::fs::write(
+            dir.join("scene.toml"),
+            toml.replacen("\n\n[camera]", &format!("\n{line}\n\n[camera]"), 1),
+        )
+        .unwrap();
+        Bundle::open(&dir, OpenOptions::default())
+    };
+    let b = with("tx_elevation = [0, 1]\nrx_elevation = [0, 0, 0, 2]").unwrap();
+    assert_eq!(b.scene.tx_elevation, [0, 1]);
+    assert_eq!(b.scene.rx_elevation, [0, 0, 0, 2]);
+    let err = with("tx_elevation = [0, 1, 1]").unwrap_err().to_string();
+    assert!(
+        err.contains("scene.toml") && err.contains("tx_elevation") && err.contains("one elevation"),
+        "{err}"
+    );
+}

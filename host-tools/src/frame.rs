@@ -224,6 +224,37 @@ impl FrameProcessor {
         Ok((values, Exponent(top)))
     }
 
+    /// The point cloud of the last processed frame (`spectra` is what [`Self::process`]
+    /// returned for it): [`dsp::points::frame_points`] over this processor's range cube.
+    ///
+    /// # Errors
+    /// A message if the buffers do not fit the configuration.
+    pub fn points(
+        &mut self,
+        spectra: &FrameSpectra,
+        geometry: &dsp::points::ArrayGeometry,
+        options: &dsp::points::CloudOptions,
+    ) -> Result<Vec<dsp::points::RadarPoint>, String> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut values =
+            vec![dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * spectra.doppler_len];
+        let mut out = Vec::new();
+        let result = dsp::points::frame_points(
+            &self.cube,
+            &self.config,
+            geometry,
+            &self.doppler_options(self.options.remove_static),
+            &spectra.range_doppler,
+            options,
+            &mut scratch,
+            &mut values,
+            |p| out.push(p),
+        );
+        self.scratch = scratch;
+        result.map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+
     /// Azimuth FFT length used for this array: 4× oversampled, at least 64 points.
     pub fn azimuth_len(&self) -> usize {
         fft::padded_len((4 * self.array.span()).max(64)).unwrap_or(fft::MAX_LEN)

@@ -16,6 +16,7 @@ pub mod geofence;
 pub mod geometry;
 pub mod inspect;
 pub mod live;
+pub mod map;
 pub mod mqtt;
 pub mod oracle;
 pub mod process;

@@ -141,6 +141,19 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Doppler odometry of a moving-platform bundle (`simulate --preset drive`): per frame the
+    /// radar's velocity by RANSAC over its point cloud, the vehicle's speed and yaw rate
+    /// (Ackermann, radar 3.7 m ahead of the rear axle), and the error against the truth.
+    #[command(
+        after_help = "Example:\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran odometry drives/drive-3-0000 --json"
+    )]
+    Odometry {
+        /// The bundle folder.
+        bundle: PathBuf,
+        /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Evaluate methods on every bundle in a folder against its truth (Table-I-like report).
     #[command(
         after_help = "Example:\n  metamoran simulate --preset parking-lot --seed 11 --out eval --count 60\n  metamoran eval eval --modes naive,monocular"
@@ -385,6 +398,37 @@ fn run(cli: Cli) -> Result<(), String> {
             &host_tools::inspect::run(&bundle, frame, &out, models.options(iq_order.into())?)?,
             json,
         ),
+        Command::Odometry { bundle, json } => {
+            let o = host_tools::map::odometry::run(&bundle, &host_tools::sim::drive::MOUNT)?;
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&o).map_err(|e| e.to_string())?
+                );
+            } else {
+                println!(
+                    "frame  points  static  v_x m/s  v_z m/s  speed m/s  yaw rate rad/s  error m/s"
+                );
+                for f in &o.frames {
+                    let v = |x: Option<f64>| x.map_or("—".to_owned(), |x| format!("{x:.3}"));
+                    println!(
+                        "{:>5}  {:>6}  {:>6}  {:>7}  {:>7}  {:>9}  {:>14}  {:>9}",
+                        f.frame,
+                        f.points,
+                        f.inliers,
+                        v(f.velocity_mps.map(|v| v[0])),
+                        v(f.velocity_mps.map(|v| v[1])),
+                        v(f.speed_mps),
+                        v(f.yaw_rate_rps),
+                        v(f.error_mps)
+                    );
+                }
+                if let Some(e) = o.ego_velocity_error_mps {
+                    println!("mean ego-velocity error {e:.3} m/s");
+                }
+            }
+            Ok(())
+        }
         Command::Eval { dir, modes, json } => {
             let (report, _) = host_tools::eval::run(&dir, &modes, !json)?;
             print(&report, json)?;

@@ -12,7 +12,7 @@ use rand::SeedableRng;
 
 fn frame(kind: RadarKind, loops: u16, echo: Echo) -> (dsp::config::RadarConfig, Vec<CQ15>) {
     let c = config(kind, 59.4, loops);
-    let bytes = synthesize(&c, &[echo], &mut rand_pcg::Pcg64Mcg::seed_from_u64(5));
+    let bytes = synthesize(&c, &[echo], &[], &mut rand_pcg::Pcg64Mcg::seed_from_u64(5));
     let mut s = vec![CQ15::default(); c.samples_per_frame()];
     deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut s).unwrap();
     (c, s)
@@ -26,6 +26,7 @@ fn point_reflector_lands_in_its_range_bin_and_azimuth() {
             let echo = Echo {
                 range,
                 sin_az,
+                sin_el: 0.0,
                 velocity: 0.0,
                 amplitude: 200.0,
                 phase: 0.3,
@@ -71,6 +72,7 @@ fn moving_reflector_lands_in_its_doppler_bin() {
                 Echo {
                     range: 30.0,
                     sin_az: 0.1,
+                    sin_el: 0.0,
                     velocity: v,
                     amplitude: 100.0,
                     phase: 0.0,
@@ -103,12 +105,14 @@ fn written_bundle_reads_back_exactly() {
         (Preset::ParkingLot, RadarKind::Cascade),
         (Preset::Moving, RadarKind::Xwr18xx),
         (Preset::Perimeter, RadarKind::Xwr18xx),
+        (Preset::Drive, RadarKind::Xwr18xx),
     ] {
         let dir = tmp.path().join(format!("{preset:?}"));
         simulate_one(preset, kind, 42, 3, &dir).unwrap();
         let scene = simulate_scene(preset, kind, 42, 3); // deterministic: the same scene again
         let mut b = Bundle::open(&dir, OpenOptions::default()).unwrap();
         assert_eq!(b.scene.radar, scene.radar);
+        assert_eq!(b.scene.tx_elevation, scene.tx_elevation);
         assert_eq!(b.frames() as usize, scene.shots.len());
         let n = scene.radar.samples_per_frame();
         let truth = b.truth.clone().unwrap();

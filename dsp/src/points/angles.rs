@@ -47,6 +47,12 @@ fn beam(
     acc
 }
 
+/// Power (dB) of the base row steered to `sin θ = s`: how strong direction θ is in a cell.
+/// O(channels).
+pub fn steered_power_db(values: &[Complex32], geom: &ArrayGeometry, s: f32) -> f32 {
+    db(beam(values, geom, s, |c| geom.elevation(c) == 0))
+}
+
 /// Calls `emit` for each direction in the cell with channel values `values` (one per virtual
 /// channel): azimuth peaks within `floor_db` of the strongest, strongest first, at most
 /// [`MAX_DIRECTIONS`]. Returns how many. O(channels + L log L) plus O(channels) per direction.

@@ -1,11 +1,16 @@
 //! The point cloud of one frame: CFAR over the range–Doppler map, local maxima only, then the
 //! directions of each detected cell from its channel values.
 //!
-//! Range and radial velocity are interpolated between bins (parabola through the dB values of
-//! the map); the power is the cell's beam power, and `rcs_db` adds `40·log10(range)` (the
-//! radar equation's spreading loss) for a relative, uncalibrated RCS.
+//! Range is interpolated between bins (parabola through the dB values of the map). Radial
+//! velocity is found per direction: the base row steered to the direction's azimuth is
+//! evaluated in the neighbouring Doppler bins, climbed to its peak and interpolated, so two
+//! walls that share a cell (left and right at mirror azimuths) each get their own velocity.
+//! Channel values are compensated for TDM-MIMO: each TX slot transmits later in the loop, so a
+//! moving target's phase advances from slot to slot, which would otherwise bias its azimuth in
+//! proportion to its Doppler. The power is the direction's beam power, and `rcs_db` adds `40·log10(range)` (the radar
+//! equation's spreading loss) for a relative, uncalibrated RCS.
 
-use super::angles::{Direction, cell_directions};
+use super::angles::{Direction, cell_directions, steered_power_db};
 use super::geometry::ArrayGeometry;
 use crate::config::RadarConfig;
 use crate::detect::{Cfar2d, CfarError, quadratic_offset};
@@ -26,6 +31,10 @@ pub struct CloudOptions {
     pub direction_floor_db: f32,
     /// Nearer detections are dropped (the radar's own leakage), m.
     pub min_range_m: f32,
+    /// Cells more than this far below the map's strongest are dropped, dB: the processing's
+    /// dynamic range, below which CFAR only finds the range and Doppler side lobes of strong
+    /// reflectors (the local noise estimate there is itself side lobes).
+    pub dynamic_range_db: f32,
 }
 
 /// One point of the cloud.
@@ -127,6 +136,8 @@ pub fn frame_points(
     let mut failed = None;
     let mut count = 0;
     let mut values = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
+    let peak = map.iter().copied().fold(0.0f32, f32::max);
+    let floor = peak * libm::powf(10.0, -options.dynamic_range_db / 20.0);
     options
         .cfar
         .detect(map, bins, nd, |det| {
@@ -136,6 +147,9 @@ pub fn frame_points(
             let (b, d) = (det.index / nd, det.index % nd);
             // Local maxima of the map only (Doppler wraps, range truncates).
             let v = det.value;
+            if v < floor {
+                return;
+            }
             let higher = (-1i32..=1).any(|dr| {
                 (-1i32..=1).any(|dd| {
                     let rb = b as i32 + dr;
@@ -157,15 +171,6 @@ pub fn frame_points(
             if range < options.min_range_m {
                 return;
             }
-            let dop_off = quadratic_offset(db(at(b, d + nd - 1)), db(v), db(at(b, d + 1)));
-            let signed = if d >= nd / 2 {
-                d as f32 - nd as f32
-            } else {
-                d as f32
-            };
-            let velocity = config
-                .doppler_to_velocity(DopplerBin(signed + dop_off), nd)
-                .0;
             if loaded != b {
                 for ch in 0..channels {
                     match doppler_column(cube, ch, b, doppler, scratch) {
@@ -187,14 +192,65 @@ pub fn frame_points(
                 }
                 loaded = b;
             }
-            for (ch, o) in values.iter_mut().enumerate().take(channels) {
-                *o = spectra[ch * nd + d];
-            }
+            let spectra: &[Complex32] = spectra;
+            let slots = config.slots() as f32;
+            let rx = config.rx_count();
+            // Channel values of Doppler bin `k` (wrapping), with the TDM-MIMO phase of the
+            // Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target
+            // at Doppler bin `k` has advanced `2π·k·s / (nd·slots)` there.
+            let cell_at = |k: usize, out: &mut [Complex32]| {
+                let k = k % nd;
+                let signed = if k >= nd / 2 {
+                    k as f32 - nd as f32
+                } else {
+                    k as f32
+                };
+                for (ch, o) in out.iter_mut().enumerate().take(channels) {
+                    let slot = (ch / rx) as f32;
+                    let phi = -core::f32::consts::TAU * signed * slot / (nd as f32 * slots);
+                    let (si, co) = (sinf(phi), cosf(phi));
+                    let z = spectra[ch * nd + k];
+                    *o = Complex32::new(z.re * co - z.im * si, z.re * si + z.im * co);
+                }
+            };
+            cell_at(d, &mut values[..channels]);
+            // The direction's power in Doppler bin `k`.
+            let power = |k: usize, s: f32| {
+                let mut cell = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
+                cell_at(k, &mut cell[..channels]);
+                steered_power_db(&cell[..channels], geom, s)
+            };
             count += cell_directions(
                 &values[..channels],
                 geom,
                 options.direction_floor_db,
-                |dir| emit(RadarPoint::new(range, velocity, dir)),
+                |dir| {
+                    let s = sinf(dir.azimuth);
+                    // Climb to the direction's own Doppler peak (at most two bins), then interpolate.
+                    let mut k = d + nd;
+                    let mut here = power(k, s);
+                    for _ in 0..2 {
+                        let (l, r) = (power(k - 1, s), power(k + 1, s));
+                        if l > here && l >= r {
+                            k -= 1;
+                            here = l;
+                        } else if r > here {
+                            k += 1;
+                            here = r;
+                        } else {
+                            break;
+                        }
+                    }
+                    let off = quadratic_offset(power(k - 1, s), here, power(k + 1, s));
+                    let k = k % nd;
+                    let signed = if k >= nd / 2 {
+                        k as f32 - nd as f32
+                    } else {
+                        k as f32
+                    };
+                    let velocity = config.doppler_to_velocity(DopplerBin(signed + off), nd).0;
+                    emit(RadarPoint::new(range, velocity, dir));
+                },
             );
         })
         .map_err(PointsError::Cfar)?;

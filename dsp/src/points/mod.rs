@@ -12,5 +12,5 @@ pub mod cloud;
 pub mod geometry;
 
 pub use angles::{Direction, cell_directions};
-pub use cloud::{CloudOptions, RadarPoint, frame_points};
+pub use cloud::{CloudOptions, PointsError, RadarPoint, frame_points};
 pub use geometry::{ArrayGeometry, GeometryError};

@@ -46,6 +46,28 @@ pub struct Scene {
     pub adc_file: PathBuf,
     /// The camera.
     pub camera: CameraConfig,
+    /// Elevation of each TX, half-wavelengths (README's extension of bundle.md; empty = all 0).
+    pub tx_elevation: Vec<i16>,
+    /// Elevation of each RX, half-wavelengths (empty = all 0).
+    pub rx_elevation: Vec<i16>,
+}
+
+/// The optional elevation list `key` of a `[radar]` table: one entry per antenna of `count`.
+fn elevation(f: &Fields<'_>, key: &str, count: usize) -> Result<Vec<i16>, InputError> {
+    if !f.has(key) {
+        return Ok(Vec::new());
+    }
+    let v = f.int_list(key, i16::MIN as i64, i16::MAX as i64)?;
+    if v.len() != count {
+        return Err(f.error(
+            key,
+            format!(
+                "has {} entries; give one elevation (half-wavelengths) per antenna ({count})",
+                v.len()
+            ),
+        ));
+    }
+    Ok(v.into_iter().map(|e| e as i16).collect())
 }
 
 impl Scene {
@@ -82,11 +104,15 @@ impl Scene {
         }
         let camera = parse_camera(&root.table("camera")?)?;
         let dir = path.parent().unwrap_or(Path::new("."));
+        let tx_elevation = elevation(&radar_fields, "tx_elevation", radar.tx_positions.len())?;
+        let rx_elevation = elevation(&radar_fields, "rx_elevation", radar.rx_count())?;
         Ok(Self {
             name,
             radar,
             adc_file: dir.join(adc_file),
             camera,
+            tx_elevation,
+            rx_elevation,
         })
     }
 }

@@ -25,6 +25,10 @@ pub enum Preset {
     /// person who walks into the gate zone near 12 m, back to 0.6 m outside its border (within
     /// the demo perimeter's hysteresis), in again and out (the demo scene).
     Perimeter,
+    /// The radar on a vehicle driving down a street of walls, poles and parked cars among
+    /// traffic, 20 frames at 10 Hz, with an elevated TX (xWR1843-like board whatever `--radar`
+    /// says): dense radar mapping's scenes. Ego pose and velocity in truth.json.
+    Drive,
 }
 
 impl Preset {
@@ -35,6 +39,7 @@ impl Preset {
             Preset::LongRange => "long-range",
             Preset::Moving => "moving",
             Preset::Perimeter => "perimeter",
+            Preset::Drive => "drive",
         }
     }
 }
@@ -231,7 +236,7 @@ fn interest(preset: Preset, rng: &mut impl Rng) -> (&'static str, f64, f64) {
         _ => "sign",
     };
     let range = match (preset, class) {
-        (Preset::ParkingLot | Preset::Perimeter, _) => rng.random_range(3.0..60.0),
+        (Preset::ParkingLot | Preset::Perimeter | Preset::Drive, _) => rng.random_range(3.0..60.0),
         (Preset::LongRange, _) => rng.random_range(10.0..90.0),
         (Preset::Moving, "person") => rng.random_range(20.0..150.0),
         (Preset::Moving, _) => rng.random_range(20.0..300.0),

@@ -6,6 +6,7 @@
 //! * [`radar`]: the simulated boards; [`writer`]: the bundle files.
 
 pub mod camera;
+pub mod drive;
 pub mod layout;
 pub mod motion;
 pub mod object;
@@ -22,6 +23,7 @@ use radar::RadarKind;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
+use shape::Shape;
 use std::path::{Path, PathBuf};
 
 /// The simulated camera: 640 × 360, 65° horizontal field of view, 15 cm above the radar.
@@ -85,6 +87,8 @@ pub struct SimulatedScene {
     pub camera: CameraConfig,
     /// `radar.bin` bytes, every frame.
     pub adc: Vec<u8>,
+    /// Elevation of each TX, half-wavelengths (empty: all 0).
+    pub tx_elevation: Vec<i16>,
     /// The camera products of every frame.
     pub shots: Vec<Shot>,
     /// Ground truth, every frame.
@@ -95,6 +99,9 @@ pub struct SimulatedScene {
 /// for the perimeter preset), objects moved along their paths or velocities between frames.
 pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
+    if preset == Preset::Drive {
+        return drive_scene(&mut rng);
+    }
     let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
@@ -109,26 +116,9 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
     for f in 0..layout.frames {
         let t = f64::from(f) * layout.frame_period_s;
         let objects = motion::at(&layout.objects, &layout.paths, t);
-        let echoes = signal::echoes(&objects, &extra, &config);
-        adc.extend(signal::synthesize(&config, &echoes, &mut rng));
-        let render = camera::render(&model, &objects);
-        let products = camera::products(&render, camera.width, camera.height, &mut rng);
-        let visible: std::collections::BTreeSet<u16> =
-            products.mask.iter().copied().filter(|&i| i != 0).collect();
-        let seen = |o: &&object::SceneObject| visible.contains(&o.id);
-        let instances = objects
-            .iter()
-            .filter(seen)
-            .map(|o| Instance {
-                id: o.id,
-                class: o.class.to_owned(),
-            })
-            .collect();
-        let truth_objects = objects
-            .iter()
-            .filter(|o| seen(o) && matches!(o.class, "car" | "person" | "sign"))
-            .map(|o| truth_object(o, &render, &model, &camera))
-            .collect();
+        let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
+        adc.extend(signal::synthesize(&config, &echoes, &[], &mut rng));
+        let (shot, truth_objects) = film(&objects, &model, &camera, &mut rng);
         frames.push(TruthFrame {
             frame: u32::from(f),
             ego: Ego {
@@ -140,21 +130,121 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
             },
             objects: truth_objects,
         });
-        shots.push(Shot {
-            render,
-            products,
-            instances,
-        });
+        shots.push(shot);
     }
     SimulatedScene {
         objects: layout.objects,
         radar: config,
         camera,
         adc,
+        tx_elevation: Vec::new(),
         shots,
         truth: Truth { frames },
     }
 }
+
+/// What the camera makes of `objects` (radar frame), and the truth of the objects of interest.
+fn film(
+    objects: &[object::SceneObject],
+    model: &CameraModel,
+    camera: &CameraConfig,
+    rng: &mut impl Rng,
+) -> (Shot, Vec<TruthObject>) {
+    let render = camera::render(model, objects);
+    let products = camera::products(&render, camera.width, camera.height, rng);
+    let visible: std::collections::BTreeSet<u16> =
+        products.mask.iter().copied().filter(|&i| i != 0).collect();
+    let seen = |o: &&object::SceneObject| visible.contains(&o.id);
+    let instances = objects
+        .iter()
+        .filter(seen)
+        .map(|o| Instance {
+            id: o.id,
+            class: o.class.to_owned(),
+        })
+        .collect();
+    let truth_objects = objects
+        .iter()
+        .filter(|o| seen(o) && matches!(o.class, "car" | "person" | "sign"))
+        .map(|o| truth_object(o, &render, model, camera))
+        .collect();
+    let shot = Shot {
+        render,
+        products,
+        instances,
+    };
+    (shot, truth_objects)
+}
+
+/// The drive preset: the street moved into the radar's frame at each frame's pose.
+fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
+    let (mut config, tx_elevation) = radar::drive_config();
+    config.frames = u32::from(drive::FRAMES);
+    config.frame_period_s = drive::FRAME_PERIOD_S;
+    let world = drive::street(rng);
+    let ground = drive::ground(rng, 9.0);
+    let plan = drive::Drive::draw(rng);
+    let poses = plan.poses(drive::FRAMES, drive::FRAME_PERIOD_S);
+    let camera = camera_config();
+    let model = CameraModel::new(&camera);
+    let elevation: Vec<i16> = (0..config.channels())
+        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
+        .collect();
+    let mut adc = Vec::new();
+    let mut shots = Vec::new();
+    let mut frames = Vec::new();
+    for (f, (pose, radar_v)) in poses.iter().enumerate() {
+        let t = f as f64 * drive::FRAME_PERIOD_S;
+        let moved = motion::at(&world, &[], t);
+        let objects: Vec<_> = moved
+            .iter()
+            .map(|o| drive::in_radar_frame(o, pose, *radar_v))
+            .collect();
+        // The ground moves like any static object: relative to the radar.
+        let ground_object = object::SceneObject {
+            id: 0,
+            class: "ground",
+            shape: Shape::Panel {
+                a: [0.0; 2],
+                b: [0.0; 2],
+                y_top: object::GROUND_Y,
+                y_bottom: object::GROUND_Y,
+            },
+            velocity: [0.0; 2],
+            scatterers: ground.clone(),
+        };
+        let ground_here = drive::in_radar_frame(&ground_object, pose, *radar_v);
+        let mut all = objects.clone();
+        all.push(ground_here);
+        let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
+        adc.extend(signal::synthesize(&config, &echoes, &elevation, rng));
+        let (shot, truth_objects) = film(&objects, &model, &camera, rng);
+        frames.push(TruthFrame {
+            frame: f as u32,
+            ego: Ego {
+                x: pose.position[0],
+                z: pose.position[1],
+                yaw: pose.yaw,
+                vx: radar_v[0],
+                vz: radar_v[1],
+            },
+            objects: truth_objects,
+        });
+        shots.push(shot);
+    }
+    SimulatedScene {
+        objects: world,
+        radar: config,
+        camera,
+        adc,
+        tx_elevation,
+        shots,
+        truth: Truth { frames },
+    }
+}
+
+/// Elevation beam (1σ) of the drive preset's board, degrees: wide, to see walls and poles.
+pub const DRIVE_ELEVATION_BEAM_DEG: f64 = 15.0;
 
 /// Truth of one object: depth of its closest footprint point, azimuth and radial velocity of
 /// its centre, and a lidar-like sample of its visible surface (from the rendered pixels).
@@ -215,6 +305,7 @@ pub fn simulate_one(
             radar: &s.radar,
             camera: &s.camera,
             adc: &s.adc,
+            tx_elevation: &s.tx_elevation,
             shots: &s.shots,
             truth: &s.truth,
         },

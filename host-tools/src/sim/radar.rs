@@ -52,6 +52,16 @@ pub fn config(kind: RadarKind, max_range: f64, loops: u16) -> RadarConfig {
     }
 }
 
+/// The drive preset's board: xWR1843-like, TX at azimuth 0, 4 and 2 half-wavelengths with the
+/// third half a wavelength up, 4 RX; 256 samples, 32 loops, 59 m. Returns the configuration
+/// and the TX elevations (half-wavelengths).
+pub fn drive_config() -> (RadarConfig, Vec<i16>) {
+    let mut c = config(RadarKind::Xwr18xx, 59.4, 32);
+    c.tx_positions = HVec::from_slice(&[0, 4, 2]).unwrap_or_default();
+    c.tx_order = (0..3).collect();
+    (c, vec![0, 0, 1])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,7 +17,8 @@ use std::f64::consts::PI;
 pub const GAIN: f64 = 3.0e4;
 /// Thermal noise, standard deviation per I and Q component, LSB.
 pub const NOISE_LSB: f64 = 2.0;
-/// Elevation beam (1σ), degrees: the narrow beam that lets ground clutter in only far away.
+/// Elevation beam (1σ) of the parking-lot boards, degrees: the narrow beam that lets ground
+/// clutter in only far away.
 pub const ELEVATION_BEAM_DEG: f64 = 4.0;
 
 /// One scatterer as the radar sees it.
@@ -27,6 +28,8 @@ pub struct Echo {
     pub range: f64,
     /// sin(azimuth).
     pub sin_az: f64,
+    /// sin(elevation), positive up.
+    pub sin_el: f64,
     /// Radial velocity, m/s (positive away).
     pub velocity: f64,
     /// Amplitude, LSB.
@@ -48,14 +51,16 @@ pub fn if_response(r: f64, r_max: f64) -> f64 {
     }
 }
 
-/// The echoes of every visible scatterer of `objects`.
+/// The echoes of every visible scatterer of `objects`, for an antenna whose elevation beam has
+/// a 1σ width of `elevation_beam_deg` degrees.
 pub fn echoes(
     objects: &[SceneObject],
     extra: &[super::object::Scatterer],
     config: &RadarConfig,
+    elevation_beam_deg: f64,
 ) -> Vec<Echo> {
     let r_max = config.max_range().0 as f64;
-    let sigma_el = ELEVATION_BEAM_DEG.to_radians();
+    let sigma_el = elevation_beam_deg.to_radians();
     let origin = nalgebra::Vector3::zeros();
     let mut out = Vec::new();
     let owners = objects
@@ -91,6 +96,7 @@ pub fn echoes(
         out.push(Echo {
             range,
             sin_az: az.sin(),
+            sin_el: el.sin(),
             velocity: owner.map_or(0.0, |o| o.radial_velocity(&p)),
             amplitude: GAIN * s.rcs.sqrt() * g_az * g_el * h / (range * range),
             phase: s.phase,
@@ -100,7 +106,14 @@ pub fn echoes(
 }
 
 /// Synthesizes one frame of `config` as DCA1000 xWR18xx bytes (IIQQ, `[chirp][rx][sample]`).
-pub fn synthesize(config: &RadarConfig, echoes: &[Echo], rng: &mut impl Rng) -> Vec<u8> {
+/// `elevation` gives each virtual channel's elevation in half-wavelengths (empty: all 0), which
+/// adds `exp(jπ·e·sin φ)` for an echo at elevation φ.
+pub fn synthesize(
+    config: &RadarConfig,
+    echoes: &[Echo],
+    elevation: &[i16],
+    rng: &mut impl Rng,
+) -> Vec<u8> {
     let (n, rx, slots, loops) = (
         config.adc_samples as usize,
         config.rx_count(),
@@ -125,7 +138,11 @@ pub fn synthesize(config: &RadarConfig, echoes: &[Echo], rng: &mut impl Rng) -> 
     };
     // Adds echo `e` with extra phase `extra` to the `n` samples of channel `ch` in `row`.
     let add = |row: &mut [(f32, f32)], e: &Echo, r: &[(f32, f32)], ch: usize, extra: f64| {
-        let phi = 4.0 * PI * e.range / lambda + e.phase + PI * positions[ch] * e.sin_az + extra;
+        let el = elevation.get(ch).map_or(0.0, |&v| f64::from(v));
+        let phi = 4.0 * PI * e.range / lambda
+            + e.phase
+            + PI * (positions[ch] * e.sin_az + el * e.sin_el)
+            + extra;
         let (s, c) = phi.sin_cos();
         let (ar, ai) = ((e.amplitude * c) as f32, (e.amplitude * s) as f32);
         for (o, &(rr, ri)) in row.iter_mut().zip(r) {

@@ -79,6 +79,8 @@ pub struct BundleContents<'a> {
     pub camera: &'a CameraConfig,
     /// `radar.bin` bytes, every frame.
     pub adc: &'a [u8],
+    /// Elevation of each TX, half-wavelengths (written only when one is not 0).
+    pub tx_elevation: &'a [i16],
     /// The camera products of every frame.
     pub shots: &'a [super::Shot],
     /// Ground truth.
@@ -93,7 +95,17 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), String> {
     let cam = dir.join("camera");
     std::fs::create_dir_all(&cam).map_err(|e| io(&cam, e))?;
     let p = dir.join("scene.toml");
-    std::fs::write(&p, scene_toml(b.name, b.radar, b.camera)).map_err(|e| io(&p, e))?;
+    let mut toml = scene_toml(b.name, b.radar, b.camera);
+    if b.tx_elevation.iter().any(|&e| e != 0) {
+        // The README's extension of bundle.md: after the [radar] keys, before [camera].
+        let list: Vec<String> = b.tx_elevation.iter().map(i16::to_string).collect();
+        toml = toml.replacen(
+            "\n\n[camera]",
+            &format!("\ntx_elevation = [{}]\n\n[camera]", list.join(", ")),
+            1,
+        );
+    }
+    std::fs::write(&p, toml).map_err(|e| io(&p, e))?;
     let p = dir.join("radar.bin");
     std::fs::write(&p, b.adc).map_err(|e| io(&p, e))?;
     for (f, shot) in b.shots.iter().enumerate() {
