@@ -145,11 +145,15 @@ enum Command {
     /// radar's velocity by RANSAC over its point cloud, the vehicle's speed and yaw rate
     /// (Ackermann, radar 3.7 m ahead of the rear axle), and the error against the truth.
     #[command(
-        after_help = "Example:\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran odometry drives/drive-3-0000 --json"
+        after_help = "Example:\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran odometry drives/drive-3-0000 --out drive-maps --json"
     )]
     Odometry {
         /// The bundle folder.
         bundle: PathBuf,
+        /// Also write the last frame's cylindrical depth images (16-bit KITTI PNG, 320 × 80):
+        /// frame.png and submap.png.
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
         /// Print JSON instead of a table.
         #[arg(long)]
         json: bool,
@@ -398,8 +402,21 @@ fn run(cli: Cli) -> Result<(), String> {
             &host_tools::inspect::run(&bundle, frame, &out, models.options(iq_order.into())?)?,
             json,
         ),
-        Command::Odometry { bundle, json } => {
+        Command::Odometry { bundle, out, json } => {
             let o = host_tools::map::odometry::run(&bundle, &host_tools::sim::drive::MOUNT)?;
+            if let (Some(dir), Some((frame, submap))) = (out, &o.images) {
+                use host_tools::map::cylinder::{HEIGHT, WIDTH};
+                std::fs::create_dir_all(&dir)
+                    .map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
+                for (name, img) in [("frame.png", frame), ("submap.png", submap)] {
+                    host_tools::depth_image::write_png16(
+                        &dir.join(name),
+                        WIDTH as u32,
+                        HEIGHT as u32,
+                        &img.kitti(),
+                    )?;
+                }
+            }
             if json {
                 println!(
                     "{}",
@@ -425,6 +442,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 }
                 if let Some(e) = o.ego_velocity_error_mps {
                     println!("mean ego-velocity error {e:.3} m/s");
+                }
+                if let Some(g) = o.density_growth_factor {
+                    println!("submap of the last frame: density growth factor {g:.1}");
+                }
+                if let Some(e) = o.final_position_error_m {
+                    println!("integrated position error at the last frame {e:.3} m");
                 }
             }
             Ok(())

@@ -1,7 +1,8 @@
 //! Doppler odometry on `drive` scenes (the second paper's Sec. 3.2, issue #7's goal): the mean
 //! ego-velocity error norm must be at most 0.08 m/s (REVE's published 0.078 m/s), with moving
 //! cars among the reflectors. The vehicle's yaw rate is checked against one derived from the
-//! truth's poses alone (central differences of the yaw), not from the simulator's motion model.
+//! truth's poses alone (central differences of the yaw), not from the simulator's motion model;
+//! the integrated track against the truth's last pose; the submap must densify the depth image.
 
 use host_tools::map::odometry::run;
 use host_tools::sim::drive::MOUNT;
@@ -37,6 +38,12 @@ fn ego_velocity_error_is_within_the_papers_figure() {
             assert!(f.inliers * 2 > f.points, "{f:?}");
             errors.push(f.error_mps.unwrap());
         }
+        // The submap of 20 frames fills many more pixels than one frame, and the integrated
+        // poses stay on the true track (2 s of driving).
+        let growth = o.density_growth_factor.unwrap();
+        assert!(growth > 5.0, "density growth factor {growth}");
+        let drift = o.final_position_error_m.unwrap();
+        assert!(drift < 0.2, "position error {drift} m after 20 frames");
         for k in 1..yaw.len() - 1 {
             let rate = (yaw[k + 1] - yaw[k - 1]) / (2.0 * period);
             let got = o.frames[k].yaw_rate_rps.unwrap();

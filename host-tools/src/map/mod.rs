@@ -1,6 +1,11 @@
 //! Dense radar mapping from a moving platform (the second paper), built up step by step:
 //! [`cloud`] turns each frame into a radar point cloud, [`odometry`] estimates the radar's and
-//! the vehicle's velocity from its Doppler (RANSAC, `dsp::ego`) and checks it against the truth.
+//! the vehicle's velocity from its Doppler (RANSAC, `dsp::ego`) and integrates the poses
+//! ([`pose`]), [`submap`] accumulates the static points of past frames into the current one,
+//! and [`cylinder`] projects points into the paper's cylindrical depth images.
 
 pub mod cloud;
+pub mod cylinder;
 pub mod odometry;
+pub mod pose;
+pub mod submap;

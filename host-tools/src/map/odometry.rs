@@ -1,8 +1,12 @@
 //! Doppler odometry: per frame, the radar's velocity by RANSAC over its point cloud
-//! (`dsp::ego`), the vehicle's speed and yaw rate by the Ackermann relation, and, where the
-//! bundle has truth, the error against the truth's ego velocity.
+//! (`dsp::ego`), the vehicle's speed and yaw rate by the Ackermann relation, the integrated
+//! pose, and, where the bundle has truth, the errors against it; then the submap of the last
+//! frame and its density growth factor.
 
 use super::cloud::{Clouds, default_options};
+use super::cylinder::DepthImage;
+use super::pose::Pose;
+use super::submap::{accumulate, density_growth};
 use crate::bundle::{Bundle, OpenOptions};
 use dsp::ego::{Detection, Mount, Ransac, estimate};
 use serde::Serialize;
@@ -37,6 +41,14 @@ pub struct Odometry {
     pub frames: Vec<OdometryFrame>,
     /// Mean error norm over the frames with an estimate and truth, m/s.
     pub ego_velocity_error_mps: Option<f64>,
+    /// Filled pixels of the last frame's submap (every frame's static points, moved by the
+    /// integrated odometry) over those of the last frame alone (the paper's definition).
+    pub density_growth_factor: Option<f64>,
+    /// Distance between the integrated and the true position of the radar at the last frame, m.
+    pub final_position_error_m: Option<f64>,
+    /// The last frame's depth image and its submap's.
+    #[serde(skip)]
+    pub images: Option<(DepthImage, DepthImage)>,
 }
 
 /// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
@@ -47,7 +59,11 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
     let mut bundle = Bundle::open(dir, OpenOptions::default()).map_err(|e| e.to_string())?;
     let mut clouds = Clouds::new(&bundle, default_options())?;
     let truth = bundle.truth.clone();
+    let period = bundle.scene.radar.frame_period_s;
     let mut frames = Vec::new();
+    // Per frame: the pose integrated so far and the static points (radar frame).
+    let mut tracked: Vec<(Pose, Vec<[f64; 3]>)> = Vec::new();
+    let mut last_motion: Option<([f64; 2], f64)> = None;
     for f in 0..bundle.frames() {
         let points = clouds.frame(&mut bundle, f)?;
         let dets: Vec<Detection> = points
@@ -72,6 +88,26 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
             });
         let v = est.map(|e| [f64::from(e.velocity[0]), f64::from(e.velocity[1])]);
         let motion = est.map(|e| mount.motion(e.velocity));
+        // Integrate with the mean of the two frames' estimates over the interval between them
+        // (a frame without an estimate repeats the last one).
+        let now = v.zip(motion).map(|(v, m)| (v, f64::from(m.yaw_rate_rps)));
+        let pose = match (tracked.last(), last_motion.or(now), now.or(last_motion)) {
+            (Some((p, _)), Some((v0, w0)), Some((v1, w1))) => p.advanced(
+                [(v0[0] + v1[0]) / 2.0, (v0[1] + v1[1]) / 2.0],
+                (w0 + w1) / 2.0,
+                period,
+            ),
+            (Some((p, _)), _, _) => *p,
+            _ => Pose::default(),
+        };
+        last_motion = now.or(last_motion);
+        let statics = points
+            .iter()
+            .zip(&mask)
+            .filter(|&(_, &m)| m || est.is_none())
+            .map(|(p, _)| p.position.map(f64::from))
+            .collect();
+        tracked.push((pose, statics));
         frames.push(OdometryFrame {
             frame: f,
             points: points.len(),
@@ -86,9 +122,26 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
         });
     }
     let errors: Vec<f64> = frames.iter().filter_map(|f| f.error_mps).collect();
+    let (images, growth) = match tracked.len() {
+        0 => (None, None),
+        n => {
+            let frame = DepthImage::project(tracked[n - 1].1.iter().copied());
+            let sub = DepthImage::project(accumulate(&tracked, 0, n - 1));
+            let growth = density_growth(&frame, &sub);
+            (Some((frame, sub)), growth)
+        }
+    };
+    let final_position_error_m = truth
+        .as_ref()
+        .and_then(|t| t.frames.last())
+        .zip(tracked.last())
+        .map(|(t, (p, _))| (t.ego.x - p.position[0]).hypot(t.ego.z - p.position[1]));
     Ok(Odometry {
         ego_velocity_error_mps: (!errors.is_empty())
             .then(|| errors.iter().sum::<f64>() / errors.len() as f64),
+        density_growth_factor: growth,
+        final_position_error_m,
+        images,
         frames,
     })
 }

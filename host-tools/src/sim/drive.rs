@@ -6,6 +6,7 @@
 
 use super::object::{self, GROUND_Y, Scatterer, SceneObject};
 use super::shape::Shape;
+pub use crate::map::pose::Pose;
 use dsp::ego::{Mount, VehicleMotion};
 use rand::Rng;
 use std::f64::consts::{PI, TAU};
@@ -20,36 +21,6 @@ pub const MOUNT: Mount = Mount {
     left_m: 0.0,
     yaw_rad: 0.0,
 };
-
-/// The radar's pose in the world frame: position `[x, z]` (m) and yaw (rad, positive left).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Pose {
-    /// Position `[x, z]`, m.
-    pub position: [f64; 2],
-    /// Heading, rad, positive turning left (from +z towards −x).
-    pub yaw: f64,
-}
-
-impl Pose {
-    /// Unit forward and right vectors in the world frame.
-    pub fn axes(&self) -> ([f64; 2], [f64; 2]) {
-        let (s, c) = self.yaw.sin_cos();
-        ([-s, c], [c, s])
-    }
-
-    /// A world point `[x, z]` in the radar frame.
-    pub fn to_radar(&self, p: [f64; 2]) -> [f64; 2] {
-        let (f, r) = self.axes();
-        let d = [p[0] - self.position[0], p[1] - self.position[1]];
-        [d[0] * r[0] + d[1] * r[1], d[0] * f[0] + d[1] * f[1]]
-    }
-
-    /// A world direction (velocity) in the radar frame.
-    pub fn rotate_to_radar(&self, v: [f64; 2]) -> [f64; 2] {
-        let (f, r) = self.axes();
-        [v[0] * r[0] + v[1] * r[1], v[0] * f[0] + v[1] * f[1]]
-    }
-}
 
 /// The vehicle's motion over time: speed and yaw rate as slow sinusoids.
 #[derive(Clone, Copy, Debug, PartialEq)]
