@@ -151,7 +151,7 @@ enum Command {
         /// The bundle folder.
         bundle: PathBuf,
         /// Also write the last frame's cylindrical depth images (16-bit KITTI PNG, 320 × 80):
-        /// frame.png and submap.png.
+        /// frame.png, submap.png and ip_basic.png (the submap completed by IP-Basic).
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Print JSON instead of a table.
@@ -408,7 +408,14 @@ fn run(cli: Cli) -> Result<(), String> {
                 use host_tools::map::cylinder::{HEIGHT, WIDTH};
                 std::fs::create_dir_all(&dir)
                     .map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
-                for (name, img) in [("frame.png", frame), ("submap.png", submap)] {
+                let completed = host_tools::map::cylinder::DepthImage {
+                    range_m: host_tools::map::ip_basic::complete(&submap.range_m),
+                };
+                for (name, img) in [
+                    ("frame.png", frame),
+                    ("submap.png", submap),
+                    ("ip_basic.png", &completed),
+                ] {
                     host_tools::depth_image::write_png16(
                         &dir.join(name),
                         WIDTH as u32,

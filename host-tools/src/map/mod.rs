@@ -2,10 +2,12 @@
 //! [`cloud`] turns each frame into a radar point cloud, [`odometry`] estimates the radar's and
 //! the vehicle's velocity from its Doppler (RANSAC, `dsp::ego`) and integrates the poses
 //! ([`pose`]), [`submap`] accumulates the static points of past frames into the current one,
-//! and [`cylinder`] projects points into the paper's cylindrical depth images.
+//! [`cylinder`] projects points into the paper's cylindrical depth images and [`ip_basic`]
+//! completes them by morphology.
 
 pub mod cloud;
 pub mod cylinder;
+pub mod ip_basic;
 pub mod odometry;
 pub mod pose;
 pub mod submap;

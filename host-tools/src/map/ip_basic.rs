@@ -1,0 +1,143 @@
+//! Depth completion by image morphology (IP-Basic, Ku et al. 2018, `fill_in_fast` with Gaussian
+//! blur and no extrapolation), the paper's completion of radar depth images:
+//!
+//! 1. invert the valid depths (`100 − d`), so that dilation prefers the nearest surface;
+//! 2. dilate with a 5 × 5 diamond; 3. close (dilate, then erode) with a 5 × 5 square;
+//! 4. fill empty pixels from a 7 × 7 dilation; 5. fill what is still empty from a 31 × 31
+//!    dilation; 6. 5 × 5 median; 7. 5 × 5 Gaussian (1 4 6 4 1)/16 on the valid pixels;
+//! 8. invert back.
+//!
+//! Border handling follows OpenCV's defaults, which the reference test runs: morphology ignores
+//! pixels outside, the median replicates the edge, the Gaussian reflects (`dcb|abcd|cba`).
+
+use super::cylinder::{HEIGHT, WIDTH};
+
+/// Depth (m) the inversion subtracts from; valid depths must be below it.
+pub const MAX_DEPTH: f32 = 100.0;
+
+/// A kernel as the list of its offsets from the centre.
+fn square(size: i32) -> Vec<(i32, i32)> {
+    let h = size / 2;
+    (-h..=h)
+        .flat_map(|dy| (-h..=h).map(move |dx| (dy, dx)))
+        .collect()
+}
+
+fn diamond5() -> Vec<(i32, i32)> {
+    square(5)
+        .into_iter()
+        .filter(|(dy, dx)| dy.abs() + dx.abs() <= 2)
+        .collect()
+}
+
+/// Grey dilation (`max`) or erosion (`min`) over `kernel`, ignoring pixels outside.
+fn morph(img: &[f32], kernel: &[(i32, i32)], max: bool) -> Vec<f32> {
+    let (w, h) = (WIDTH as i32, HEIGHT as i32);
+    let mut out = vec![0.0; img.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let mut v = if max {
+                f32::NEG_INFINITY
+            } else {
+                f32::INFINITY
+            };
+            for &(dy, dx) in kernel {
+                let (yy, xx) = (y + dy, x + dx);
+                if (0..h).contains(&yy) && (0..w).contains(&xx) {
+                    let s = img[(yy * w + xx) as usize];
+                    v = if max { v.max(s) } else { v.min(s) };
+                }
+            }
+            out[(y * w + x) as usize] = v;
+        }
+    }
+    out
+}
+
+fn fill_empty(img: &mut [f32], kernel: &[(i32, i32)]) {
+    let dilated = morph(img, kernel, true);
+    for (v, d) in img.iter_mut().zip(dilated) {
+        if *v < 0.1 {
+            *v = d;
+        }
+    }
+}
+
+/// 5 × 5 median with replicated edges.
+fn median5(img: &[f32]) -> Vec<f32> {
+    let (w, h) = (WIDTH as i32, HEIGHT as i32);
+    let mut out = vec![0.0; img.len()];
+    let mut window = [0f32; 25];
+    for y in 0..h {
+        for x in 0..w {
+            for (k, (dy, dx)) in square(5).into_iter().enumerate() {
+                let (yy, xx) = ((y + dy).clamp(0, h - 1), (x + dx).clamp(0, w - 1));
+                window[k] = img[(yy * w + xx) as usize];
+            }
+            window.sort_by(f32::total_cmp);
+            out[(y * w + x) as usize] = window[12];
+        }
+    }
+    out
+}
+
+/// Index `i` of an axis of length `n`, reflected without repeating the edge (`dcb|abcd|cba`).
+fn reflect101(i: i32, n: i32) -> i32 {
+    if i < 0 {
+        -i
+    } else if i >= n {
+        2 * n - 2 - i
+    } else {
+        i
+    }
+}
+
+/// 5 × 5 Gaussian (OpenCV's fixed kernel for σ = 0: 1 4 6 4 1 / 16), separable: rows, then
+/// columns.
+fn gaussian5(img: &[f32]) -> Vec<f32> {
+    const K: [f32; 5] = [0.0625, 0.25, 0.375, 0.25, 0.0625];
+    let (w, h) = (WIDTH as i32, HEIGHT as i32);
+    let mut rows = vec![0.0; img.len()];
+    for y in 0..h {
+        for x in 0..w {
+            rows[(y * w + x) as usize] = (0..5)
+                .map(|k| K[k as usize] * img[(y * w + reflect101(x + k - 2, w)) as usize])
+                .sum();
+        }
+    }
+    let mut out = vec![0.0; img.len()];
+    for y in 0..h {
+        for x in 0..w {
+            out[(y * w + x) as usize] = (0..5)
+                .map(|k| K[k as usize] * rows[(reflect101(y + k - 2, h) * w + x) as usize])
+                .sum();
+        }
+    }
+    out
+}
+
+/// Completes a `WIDTH × HEIGHT` depth image (m, 0 = empty). O(pixels · 31²) for the large fill.
+pub fn complete(depth: &[f32]) -> Vec<f32> {
+    let mut img: Vec<f32> = depth
+        .iter()
+        .map(|&d| if d > 0.1 { MAX_DEPTH - d } else { d })
+        .collect();
+    img = morph(&img, &diamond5(), true);
+    let full5 = square(5);
+    img = morph(&morph(&img, &full5, true), &full5, false);
+    fill_empty(&mut img, &square(7));
+    fill_empty(&mut img, &square(31));
+    img = median5(&img);
+    let blurred = gaussian5(&img);
+    for (v, b) in img.iter_mut().zip(blurred) {
+        if *v > 0.1 {
+            *v = b;
+        }
+    }
+    for v in &mut img {
+        if *v > 0.1 {
+            *v = MAX_DEPTH - *v;
+        }
+    }
+    img
+}
