@@ -456,6 +456,12 @@ fn run(cli: Cli) -> Result<(), String> {
                 if let Some(e) = o.final_position_error_m {
                     println!("integrated position error at the last frame {e:.3} m");
                 }
+                if let (Some(m), Some(r)) = (o.mae_m, o.rmse_m) {
+                    println!(
+                        "depth images vs lidar (MAE / RMSE, m): frame {:.2} / {:.2}, submap {:.2} / {:.2}, IP-Basic {:.2} / {:.2}",
+                        m.frame, r.frame, m.submap, r.submap, m.ip_basic, r.ip_basic
+                    );
+                }
             }
             Ok(())
         }

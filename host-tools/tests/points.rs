@@ -87,9 +87,9 @@ fn point_reflectors_come_back_where_they_are() {
                 .all(|q| q.power_db < p.power_db - 30.0),
             "{points:?}"
         );
-        // The position is the range along the direction (x right, y down, z forward).
+        // The position: range in the x–z plane (bundle.md), height from the elevation.
         let (a, e) = (f64::from(p.azimuth), f64::from(p.elevation));
-        let want = [r * e.cos() * a.sin(), -r * e.sin(), r * e.cos() * a.cos()];
+        let want = [r * a.sin(), -r * e.tan(), r * a.cos()];
         for (g, w) in p.position.iter().zip(want) {
             assert!((f64::from(*g) - w).abs() < bin / 4.0 + 0.01, "{p:?}");
         }

@@ -42,7 +42,7 @@ pub struct CloudOptions {
 pub struct RadarPoint {
     /// Position in the radar frame (x right, y down, z forward), m.
     pub position: [f32; 3],
-    /// Range, m.
+    /// Range in the x–z plane (bundle.md's range: the radar measures no elevation in range), m.
     pub range_m: f32,
     /// Azimuth, rad, positive right.
     pub azimuth: f32,
@@ -57,13 +57,13 @@ pub struct RadarPoint {
 }
 
 impl RadarPoint {
+    /// A point at `range` (in the x–z plane, as bundle.md measures range) in direction `d`.
     fn new(range: f32, velocity: f32, d: Direction) -> Self {
-        let (ce, se) = (cosf(d.elevation), sinf(d.elevation));
         Self {
             position: [
-                range * ce * sinf(d.azimuth),
-                -range * se,
-                range * ce * cosf(d.azimuth),
+                range * sinf(d.azimuth),
+                -range * libm::tanf(d.elevation),
+                range * cosf(d.azimuth),
             ],
             range_m: range,
             azimuth: d.azimuth,

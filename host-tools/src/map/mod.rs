@@ -3,11 +3,12 @@
 //! the vehicle's velocity from its Doppler (RANSAC, `dsp::ego`) and integrates the poses
 //! ([`pose`]), [`submap`] accumulates the static points of past frames into the current one,
 //! [`cylinder`] projects points into the paper's cylindrical depth images and [`ip_basic`]
-//! completes them by morphology.
+//! completes them by morphology; [`lidar`] is the dense truth they are measured against.
 
 pub mod cloud;
 pub mod cylinder;
 pub mod ip_basic;
+pub mod lidar;
 pub mod odometry;
 pub mod pose;
 pub mod submap;

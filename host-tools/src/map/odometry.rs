@@ -46,9 +46,44 @@ pub struct Odometry {
     pub density_growth_factor: Option<f64>,
     /// Distance between the integrated and the true position of the radar at the last frame, m.
     pub final_position_error_m: Option<f64>,
+    /// Depth-image errors against the lidar-like truth of the last frame (where the bundle
+    /// has `lidar/`): mean absolute error, m.
+    pub mae_m: Option<ImageErrors>,
+    /// The same, root mean square, m.
+    pub rmse_m: Option<ImageErrors>,
     /// The last frame's depth image and its submap's.
     #[serde(skip)]
     pub images: Option<(DepthImage, DepthImage)>,
+}
+
+/// One error per depth image, each over the pixels where it and the lidar image both have a
+/// depth.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ImageErrors {
+    /// The radar frame's depth image.
+    pub frame: f64,
+    /// The submap's.
+    pub submap: f64,
+    /// The submap completed by IP-Basic.
+    pub ip_basic: f64,
+}
+
+/// (MAE, RMSE) of `image` against `truth` over the pixels where both have a depth; `None`
+/// without overlap.
+pub fn image_errors(image: &[f32], truth: &[f32]) -> Option<(f64, f64)> {
+    let d: Vec<f64> = image
+        .iter()
+        .zip(truth)
+        .filter(|&(&a, &b)| a > 0.0 && b > 0.0)
+        .map(|(&a, &b)| f64::from(a) - f64::from(b))
+        .collect();
+    (!d.is_empty()).then(|| {
+        let n = d.len() as f64;
+        (
+            d.iter().map(|e| e.abs()).sum::<f64>() / n,
+            (d.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
+        )
+    })
 }
 
 /// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
@@ -131,6 +166,24 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
             (Some((frame, sub)), growth)
         }
     };
+    let last = bundle.frames().saturating_sub(1);
+    let lidar_file = super::lidar::path(dir, last);
+    let lidar = if lidar_file.exists() {
+        Some(super::lidar::read(&lidar_file).map_err(|e| e.to_string())?)
+    } else {
+        None
+    };
+    let errors_of = |pick: fn((f64, f64)) -> f64| -> Option<ImageErrors> {
+        let (frame, sub) = images.as_ref()?;
+        let truth = DepthImage::project(lidar.as_ref()?.iter().copied());
+        let completed = super::ip_basic::complete(&sub.range_m);
+        Some(ImageErrors {
+            frame: pick(image_errors(&frame.range_m, &truth.range_m)?),
+            submap: pick(image_errors(&sub.range_m, &truth.range_m)?),
+            ip_basic: pick(image_errors(&completed, &truth.range_m)?),
+        })
+    };
+    let (mae_m, rmse_m) = (errors_of(|e| e.0), errors_of(|e| e.1));
     let final_position_error_m = truth
         .as_ref()
         .and_then(|t| t.frames.last())
@@ -141,6 +194,8 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
             .then(|| errors.iter().sum::<f64>() / errors.len() as f64),
         density_growth_factor: growth,
         final_position_error_m,
+        mae_m,
+        rmse_m,
         images,
         frames,
     })

@@ -91,6 +91,8 @@ pub struct SimulatedScene {
     pub tx_elevation: Vec<i16>,
     /// The camera products of every frame.
     pub shots: Vec<Shot>,
+    /// The lidar-like truth of every frame (drive preset; empty otherwise).
+    pub lidar: Vec<Vec<[f64; 3]>>,
     /// Ground truth, every frame.
     pub truth: Truth,
 }
@@ -139,6 +141,7 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
         adc,
         tx_elevation: Vec::new(),
         shots,
+        lidar: Vec::new(),
         truth: Truth { frames },
     }
 }
@@ -192,6 +195,7 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         .collect();
     let mut adc = Vec::new();
     let mut shots = Vec::new();
+    let mut lidar = Vec::new();
     let mut frames = Vec::new();
     for (f, (pose, radar_v)) in poses.iter().enumerate() {
         let t = f as f64 * drive::FRAME_PERIOD_S;
@@ -219,6 +223,16 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
         adc.extend(signal::synthesize(&config, &echoes, &elevation, rng));
         let (shot, truth_objects) = film(&objects, &model, &camera, rng);
+        lidar.push(crate::map::lidar::scan(|d| {
+            let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
+            let origin = nalgebra::Vector3::zeros();
+            let ground = (d[1] > 1e-9).then(|| object::GROUND_Y / d[1]);
+            objects
+                .iter()
+                .filter_map(|o| o.shape.intersect(&origin, &dir))
+                .chain(ground)
+                .min_by(f64::total_cmp)
+        }));
         frames.push(TruthFrame {
             frame: f as u32,
             ego: Ego {
@@ -239,6 +253,7 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         adc,
         tx_elevation,
         shots,
+        lidar,
         truth: Truth { frames },
     }
 }
@@ -307,6 +322,7 @@ pub fn simulate_one(
             adc: &s.adc,
             tx_elevation: &s.tx_elevation,
             shots: &s.shots,
+            lidar: &s.lidar,
             truth: &s.truth,
         },
     )

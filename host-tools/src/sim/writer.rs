@@ -83,6 +83,8 @@ pub struct BundleContents<'a> {
     pub tx_elevation: &'a [i16],
     /// The camera products of every frame.
     pub shots: &'a [super::Shot],
+    /// The lidar-like truth of every frame (written as `lidar/F.ply` when there is one).
+    pub lidar: &'a [Vec<[f64; 3]>],
     /// Ground truth.
     pub truth: &'a Truth,
 }
@@ -117,6 +119,9 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), String> {
         let json = serde_json::json!({ "instances": shot.instances });
         std::fs::write(p, serde_json::to_vec(&json).map_err(|e| io(p, e))?)
             .map_err(|e| io(p, e))?;
+    }
+    for (f, points) in b.lidar.iter().enumerate() {
+        crate::map::lidar::write(&crate::map::lidar::path(dir, f as u32), points)?;
     }
     let p = dir.join("truth.json");
     std::fs::write(&p, serde_json::to_vec(b.truth).map_err(|e| io(&p, e))?).map_err(|e| io(&p, e))
