@@ -179,7 +179,7 @@ enum Command {
     },
     /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
     #[command(
-        after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes"
+        after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)"
     )]
     Simulate {
         /// Scene preset.
