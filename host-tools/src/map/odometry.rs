@@ -136,10 +136,12 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
             _ => Pose::default(),
         };
         last_motion = now.or(last_motion);
+        // Only the RANSAC inliers: a frame without an estimate adds no points (its movers
+        // and ghosts cannot be told from the static scene).
         let statics = points
             .iter()
             .zip(&mask)
-            .filter(|&(_, &m)| m || est.is_none())
+            .filter(|&(_, &m)| m)
             .map(|(p, _)| p.position.map(f64::from))
             .collect();
         tracked.push((pose, statics));
