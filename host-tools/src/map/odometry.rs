@@ -109,6 +109,10 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
             .collect();
         let mut mask = vec![false; dets.len()];
         let est = estimate(&dets, &Ransac::default(), &mut mask).ok();
+        if est.is_none() {
+            // A failed fit may have marked a consensus it then rejected.
+            mask.fill(false);
+        }
         let truth_v = truth
             .as_ref()
             .and_then(|t| t.frames.get(f as usize))
