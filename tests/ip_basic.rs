@@ -2,7 +2,7 @@
 //! (`oracles/ip_basic.py`, opencv-python-headless in the test venv), on a radar submap's depth
 //! image and on a random sparse one.
 
-use host_tools::map::cylinder::{DepthImage, HEIGHT, WIDTH};
+use host_tools::map::cylinder::{HEIGHT, WIDTH};
 use host_tools::map::ip_basic::complete;
 use metamoran_e2e::run_oracle;
 
@@ -73,6 +73,8 @@ fn completion_matches_opencv() {
     )
     .unwrap();
     let o = host_tools::map::odometry::run(&dirs[0], &host_tools::sim::drive::MOUNT).unwrap();
-    let (_, submap): &(DepthImage, DepthImage) = o.images.as_ref().unwrap();
-    compare(&submap.range_m, "submap");
+    let images = o.images.as_ref().unwrap();
+    compare(&images.submap.range_m, "submap");
+    // The odometry's own completion is this one.
+    assert_eq!(images.ip_basic.range_m, complete(&images.submap.range_m));
 }

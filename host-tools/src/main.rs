@@ -404,17 +404,14 @@ fn run(cli: Cli) -> Result<(), String> {
         ),
         Command::Odometry { bundle, out, json } => {
             let o = host_tools::map::odometry::run(&bundle, &host_tools::sim::drive::MOUNT)?;
-            if let (Some(dir), Some((frame, submap))) = (out, &o.images) {
+            if let (Some(dir), Some(images)) = (out, &o.images) {
                 use host_tools::map::cylinder::{HEIGHT, WIDTH};
                 std::fs::create_dir_all(&dir)
                     .map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
-                let completed = host_tools::map::cylinder::DepthImage {
-                    range_m: host_tools::map::ip_basic::complete(&submap.range_m),
-                };
                 for (name, img) in [
-                    ("frame.png", frame),
-                    ("submap.png", submap),
-                    ("ip_basic.png", &completed),
+                    ("frame.png", &images.frame),
+                    ("submap.png", &images.submap),
+                    ("ip_basic.png", &images.ip_basic),
                 ] {
                     host_tools::depth_image::write_png16(
                         &dir.join(name),

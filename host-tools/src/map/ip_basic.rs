@@ -68,9 +68,10 @@ fn median5(img: &[f32]) -> Vec<f32> {
     let (w, h) = (WIDTH as i32, HEIGHT as i32);
     let mut out = vec![0.0; img.len()];
     let mut window = [0f32; 25];
+    let kernel = square(5);
     for y in 0..h {
         for x in 0..w {
-            for (k, (dy, dx)) in square(5).into_iter().enumerate() {
+            for (k, &(dy, dx)) in kernel.iter().enumerate() {
                 let (yy, xx) = ((y + dy).clamp(0, h - 1), (x + dx).clamp(0, w - 1));
                 window[k] = img[(yy * w + xx) as usize];
             }

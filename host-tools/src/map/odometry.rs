@@ -51,9 +51,20 @@ pub struct Odometry {
     pub mae_m: Option<ImageErrors>,
     /// The same, root mean square, m.
     pub rmse_m: Option<ImageErrors>,
-    /// The last frame's depth image and its submap's.
+    /// The last frame's depth images.
     #[serde(skip)]
-    pub images: Option<(DepthImage, DepthImage)>,
+    pub images: Option<LastImages>,
+}
+
+/// The depth images of the last frame.
+#[derive(Clone, Debug)]
+pub struct LastImages {
+    /// The frame's own points.
+    pub frame: DepthImage,
+    /// Its submap's.
+    pub submap: DepthImage,
+    /// The submap completed by IP-Basic.
+    pub ip_basic: DepthImage,
 }
 
 /// One error per depth image, each over the pixels where it and the lidar image both have a
@@ -162,14 +173,22 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
                 .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1])),
         });
     }
-    let errors: Vec<f64> = frames.iter().filter_map(|f| f.error_mps).collect();
+    let velocity_errors: Vec<f64> = frames.iter().filter_map(|f| f.error_mps).collect();
     let (images, growth) = match tracked.len() {
         0 => (None, None),
         n => {
             let frame = DepthImage::project(tracked[n - 1].1.iter().copied());
-            let sub = DepthImage::project(accumulate(&tracked, 0, n - 1));
-            let growth = density_growth(&frame, &sub);
-            (Some((frame, sub)), growth)
+            let submap = DepthImage::project(accumulate(&tracked, 0, n - 1));
+            let growth = density_growth(&frame, &submap);
+            let ip_basic = DepthImage {
+                range_m: super::ip_basic::complete(&submap.range_m),
+            };
+            let images = LastImages {
+                frame,
+                submap,
+                ip_basic,
+            };
+            (Some(images), growth)
         }
     };
     let last = bundle.frames().saturating_sub(1);
@@ -179,25 +198,31 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
     } else {
         None
     };
-    let errors_of = |pick: fn((f64, f64)) -> f64| -> Option<ImageErrors> {
-        let (frame, sub) = images.as_ref()?;
-        let truth = DepthImage::project(lidar.as_ref()?.iter().copied());
-        let completed = super::ip_basic::complete(&sub.range_m);
-        Some(ImageErrors {
-            frame: pick(image_errors(&frame.range_m, &truth.range_m)?),
-            submap: pick(image_errors(&sub.range_m, &truth.range_m)?),
-            ip_basic: pick(image_errors(&completed, &truth.range_m)?),
+    // (MAE, RMSE) of each image against the lidar's, computed once.
+    let errors = images.as_ref().zip(lidar.as_ref()).and_then(|(im, lidar)| {
+        let truth = DepthImage::project(lidar.iter().copied());
+        Some([
+            image_errors(&im.frame.range_m, &truth.range_m)?,
+            image_errors(&im.submap.range_m, &truth.range_m)?,
+            image_errors(&im.ip_basic.range_m, &truth.range_m)?,
+        ])
+    });
+    let pick = |k: fn(&(f64, f64)) -> f64| {
+        errors.map(|[f, s, i]| ImageErrors {
+            frame: k(&f),
+            submap: k(&s),
+            ip_basic: k(&i),
         })
     };
-    let (mae_m, rmse_m) = (errors_of(|e| e.0), errors_of(|e| e.1));
+    let (mae_m, rmse_m) = (pick(|e| e.0), pick(|e| e.1));
     let final_position_error_m = truth
         .as_ref()
         .and_then(|t| t.frames.last())
         .zip(tracked.last())
         .map(|(t, (p, _))| (t.ego.x - p.position[0]).hypot(t.ego.z - p.position[1]));
     Ok(Odometry {
-        ego_velocity_error_mps: (!errors.is_empty())
-            .then(|| errors.iter().sum::<f64>() / errors.len() as f64),
+        ego_velocity_error_mps: (!velocity_errors.is_empty())
+            .then(|| velocity_errors.iter().sum::<f64>() / velocity_errors.len() as f64),
         density_growth_factor: growth,
         final_position_error_m,
         mae_m,

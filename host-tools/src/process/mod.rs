@@ -164,8 +164,8 @@ pub struct FrameEvent<'a> {
     pub result: &'a FrameResult,
     /// Frames in the bundle.
     pub of: u32,
-    /// Time from sending the frame's hints to the module to its results arriving (QEMU), or
-    /// the in-process search time.
+    /// Time from reading the frame's radar samples to its results: the read, the host's
+    /// Doppler pass for movers and the module's round trip (QEMU) or search (in process).
     pub latency: std::time::Duration,
     /// The host's receive counters of the telemetry link (QEMU only).
     pub link: Option<dsp::wire::LinkStats>,
