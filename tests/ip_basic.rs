@@ -73,8 +73,10 @@ fn completion_matches_opencv() {
     )
     .unwrap();
     let o = host_tools::map::odometry::run(&dirs[0], &host_tools::sim::drive::MOUNT).unwrap();
-    let images = o.images.as_ref().unwrap();
+    let images = host_tools::map::depth::last(&dirs[0], &o, None)
+        .unwrap()
+        .unwrap();
     compare(&images.submap.range_m, "submap");
-    // The odometry's own completion is this one.
+    // The map's own completion is this one.
     assert_eq!(images.ip_basic.range_m, complete(&images.submap.range_m));
 }

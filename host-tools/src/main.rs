@@ -145,16 +145,41 @@ enum Command {
     /// radar's velocity by RANSAC over its point cloud, the vehicle's speed and yaw rate
     /// (Ackermann, radar 3.7 m ahead of the rear axle), and the error against the truth.
     #[command(
-        after_help = "Example:\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran odometry drives/drive-3-0000 --out drive-maps --json"
+        after_help = "Example:\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran odometry drives/drive-3-0000"
     )]
     Odometry {
         /// The bundle folder.
         bundle: PathBuf,
-        /// Also write the last frame's cylindrical depth images (16-bit KITTI PNG, 320 × 80):
-        /// frame.png, submap.png and ip_basic.png (the submap completed by IP-Basic).
-        #[arg(long, value_name = "DIR")]
-        out: Option<PathBuf>,
         /// Print JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Dense radar map of a moving-platform bundle (the second paper): odometry, the last
+    /// frame's submap, its completion by IP-Basic and by the 3D-RadarHR network, each depth
+    /// image's MAE/RMSE against the lidar truth, and the network's frame rate. Writes the depth
+    /// images (16-bit KITTI PNG, 320 × 80: frame, submap, ip_basic, network, lidar) and point
+    /// clouds (PLY: submap.ply, network.ply) into --out. The network needs a build with
+    /// --features onnx.
+    #[command(
+        after_help = "Example:\n  cargo build --release -p metamoran --features onnx\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran map drives/drive-3-0000 --out drive-map --json"
+    )]
+    Map {
+        /// The bundle folder.
+        bundle: PathBuf,
+        /// Output folder for the depth images and point clouds.
+        #[arg(long, default_value = "map-out")]
+        out: PathBuf,
+        /// A 3D-RadarHR ONNX model (contract: vision crate docs) instead of the shipped one.
+        #[arg(long, value_name = "MODEL.onnx")]
+        model: Option<PathBuf>,
+        /// Skip the network (its figures are null); works without the onnx feature.
+        #[arg(long, conflicts_with = "model")]
+        no_network: bool,
+        /// Also write every frame's submap and lidar depth images as training pairs
+        /// (OUT/pairs/submap_FFFFFF.png, OUT/pairs/lidar_FFFFFF.png) for train/radarhr.py.
+        #[arg(long)]
+        training_pairs: bool,
+        /// Print the figures as JSON.
         #[arg(long)]
         json: bool,
     },
@@ -258,6 +283,16 @@ enum BenchCommand {
         #[arg(long, value_delimiter = ',', default_value = "256,1024")]
         sizes: Vec<usize>,
     },
+    /// 3D-RadarHR's time per drive submap against IP-Basic's, and the map path's frame rate
+    /// (needs a build with --features onnx).
+    #[command(
+        after_help = "Example:\n  cargo run --release -p metamoran --features onnx -- bench network"
+    )]
+    Network {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]
     Search {
@@ -313,13 +348,99 @@ fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<Ra
 
 fn print<T: serde::Serialize + std::fmt::Display>(value: &T, json: bool) -> Result<(), String> {
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(value).map_err(|e| e.to_string())?
-        );
+        print_json(value)
     } else {
         print!("{value}");
+        Ok(())
     }
+}
+
+fn print_json<T: serde::Serialize>(value: &T) -> Result<(), String> {
+    println!(
+        "{}",
+        serde_json::to_string_pretty(value).map_err(|e| e.to_string())?
+    );
+    Ok(())
+}
+
+/// `x` with `decimals`, or "—".
+fn figure(x: Option<f64>, decimals: usize) -> String {
+    x.map_or("—".to_owned(), |x| format!("{x:.decimals$}"))
+}
+
+/// `metamoran map`: see the command's help.
+fn map(
+    bundle: &std::path::Path,
+    out: &std::path::Path,
+    model: Option<&std::path::Path>,
+    no_network: bool,
+    training_pairs: bool,
+    json: bool,
+) -> Result<(), String> {
+    use host_tools::map::{cylinder, depth, lidar, network::Network, report};
+    let network = (!no_network).then(|| Network::load(model)).transpose()?;
+    let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
+    let (report, odometry, images) = report::run(
+        bundle,
+        &host_tools::sim::drive::MOUNT,
+        complete.as_ref().map(|c| c as depth::Completion),
+    )?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create ({e})", out.display()))?;
+    let png = |name: &str, img: &cylinder::DepthImage| {
+        host_tools::depth_image::write_png16(
+            &out.join(name),
+            cylinder::WIDTH as u32,
+            cylinder::HEIGHT as u32,
+            &img.kitti(),
+        )
+    };
+    if let Some(im) = &images {
+        png("frame.png", &im.frame)?;
+        png("submap.png", &im.submap)?;
+        png("ip_basic.png", &im.ip_basic)?;
+        lidar::write(&out.join("submap.ply"), &im.submap_points)?;
+        if let Some(n) = &im.network {
+            png("network.png", n)?;
+            lidar::write(&out.join("network.ply"), &n.points())?;
+        }
+        if let Some(l) = &im.lidar {
+            png("lidar.png", l)?;
+        }
+    }
+    if training_pairs {
+        let pairs = out.join("pairs");
+        std::fs::create_dir_all(&pairs)
+            .map_err(|e| format!("{}: cannot create ({e})", pairs.display()))?;
+        for (k, submap, truth) in depth::training_pairs(bundle, &odometry)? {
+            png(&format!("pairs/submap_{k:06}.png"), &submap)?;
+            png(&format!("pairs/lidar_{k:06}.png"), &truth)?;
+        }
+    }
+    if json {
+        return print_json(&report);
+    }
+    println!(
+        "ego-velocity error {} m/s over {} frames; density growth factor {}",
+        figure(report.ego_velocity_error_mps, 3),
+        odometry.frames.len(),
+        figure(report.density_growth_factor, 1)
+    );
+    if let (Some(m), Some(r)) = (report.mae_m, report.rmse_m) {
+        println!("depth image vs lidar   MAE m   RMSE m");
+        for (name, a, b) in [
+            ("radar frame", m.frame, r.frame),
+            ("radar submap", m.submap, r.submap),
+            ("IP-Basic", m.ip_basic, r.ip_basic),
+            ("3D-RadarHR", m.network, r.network),
+        ] {
+            println!("{name:<20}  {:>6}   {:>6}", figure(a, 2), figure(b, 2));
+        }
+    }
+    println!(
+        "network {} Hz; images and point clouds in {}",
+        figure(report.network_fps, 1),
+        out.display()
+    );
     Ok(())
 }
 
@@ -402,66 +523,49 @@ fn run(cli: Cli) -> Result<(), String> {
             &host_tools::inspect::run(&bundle, frame, &out, models.options(iq_order.into())?)?,
             json,
         ),
-        Command::Odometry { bundle, out, json } => {
+        Command::Odometry { bundle, json } => {
             let o = host_tools::map::odometry::run(&bundle, &host_tools::sim::drive::MOUNT)?;
-            if let (Some(dir), Some(images)) = (out, &o.images) {
-                use host_tools::map::cylinder::{HEIGHT, WIDTH};
-                std::fs::create_dir_all(&dir)
-                    .map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
-                for (name, img) in [
-                    ("frame.png", &images.frame),
-                    ("submap.png", &images.submap),
-                    ("ip_basic.png", &images.ip_basic),
-                ] {
-                    host_tools::depth_image::write_png16(
-                        &dir.join(name),
-                        WIDTH as u32,
-                        HEIGHT as u32,
-                        &img.kitti(),
-                    )?;
-                }
-            }
             if json {
-                println!(
-                    "{}",
-                    serde_json::to_string_pretty(&o).map_err(|e| e.to_string())?
-                );
-            } else {
-                println!(
-                    "frame  points  static  v_x m/s  v_z m/s  speed m/s  yaw rate rad/s  error m/s"
-                );
-                for f in &o.frames {
-                    let v = |x: Option<f64>| x.map_or("—".to_owned(), |x| format!("{x:.3}"));
-                    println!(
-                        "{:>5}  {:>6}  {:>6}  {:>7}  {:>7}  {:>9}  {:>14}  {:>9}",
-                        f.frame,
-                        f.points,
-                        f.inliers,
-                        v(f.velocity_mps.map(|v| v[0])),
-                        v(f.velocity_mps.map(|v| v[1])),
-                        v(f.speed_mps),
-                        v(f.yaw_rate_rps),
-                        v(f.error_mps)
-                    );
-                }
-                if let Some(e) = o.ego_velocity_error_mps {
-                    println!("mean ego-velocity error {e:.3} m/s");
-                }
-                if let Some(g) = o.density_growth_factor {
-                    println!("submap of the last frame: density growth factor {g:.1}");
-                }
-                if let Some(e) = o.final_position_error_m {
-                    println!("integrated position error at the last frame {e:.3} m");
-                }
-                if let (Some(m), Some(r)) = (o.mae_m, o.rmse_m) {
-                    println!(
-                        "depth images vs lidar (MAE / RMSE, m): frame {:.2} / {:.2}, submap {:.2} / {:.2}, IP-Basic {:.2} / {:.2}",
-                        m.frame, r.frame, m.submap, r.submap, m.ip_basic, r.ip_basic
-                    );
-                }
+                return print_json(&o);
             }
+            println!(
+                "frame  points  static  v_x m/s  v_z m/s  speed m/s  yaw rate rad/s  error m/s"
+            );
+            for f in &o.frames {
+                println!(
+                    "{:>5}  {:>6}  {:>6}  {:>7}  {:>7}  {:>9}  {:>14}  {:>9}",
+                    f.frame,
+                    f.points,
+                    f.inliers,
+                    figure(f.velocity_mps.map(|v| v[0]), 3),
+                    figure(f.velocity_mps.map(|v| v[1]), 3),
+                    figure(f.speed_mps, 3),
+                    figure(f.yaw_rate_rps, 3),
+                    figure(f.error_mps, 3)
+                );
+            }
+            println!(
+                "mean ego-velocity error {} m/s; integrated position error at the last frame {} m",
+                figure(o.ego_velocity_error_mps, 3),
+                figure(o.final_position_error_m, 3)
+            );
             Ok(())
         }
+        Command::Map {
+            bundle,
+            out,
+            model,
+            no_network,
+            training_pairs,
+            json,
+        } => map(
+            &bundle,
+            &out,
+            model.as_deref(),
+            no_network,
+            training_pairs,
+            json,
+        ),
         Command::Eval { dir, modes, json } => {
             let (report, _) = host_tools::eval::run(&dir, &modes, !json)?;
             print(&report, json)?;
@@ -539,6 +643,9 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Bench {
             what: BenchCommand::Search { json },
         } => print(&host_tools::bench::search::run()?, json),
+        Command::Bench {
+            what: BenchCommand::Network { json },
+        } => print(&host_tools::bench::network::run()?, json),
     }
 }
 

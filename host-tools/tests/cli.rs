@@ -119,3 +119,91 @@ fn summarize_json_finds_the_two_movers() {
     let res = v["config"]["range_resolution_m"].as_f64().unwrap();
     assert!((res - 0.048794).abs() < 1e-5, "range resolution {res}");
 }
+
+#[test]
+fn map_json_has_the_issue_keys_and_writes_images_and_clouds() {
+    let scenes = tempfile::tempdir().unwrap();
+    let sim = metamoran(&[
+        "simulate",
+        "--preset",
+        "drive",
+        "--seed",
+        "12",
+        "--count",
+        "1",
+        "--out",
+        scenes.path().to_str().unwrap(),
+    ]);
+    assert!(sim.status.success(), "{}", stderr(&sim));
+    let bundle = scenes.path().join("drive-12-0000");
+    let out = scenes.path().join("map");
+    let mut args = vec![
+        "map",
+        bundle.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+        "--training-pairs",
+    ];
+    // The network needs tract (feature onnx, which the workspace's e2e tests turn on).
+    let network = cfg!(feature = "onnx");
+    if !network {
+        args.push("--no-network");
+    }
+    let o = metamoran(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let keys = |v: &serde_json::Value| {
+        let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+        k.sort();
+        k
+    };
+    assert_eq!(
+        keys(&v),
+        [
+            "density_growth_factor",
+            "ego_velocity_error_mps",
+            "mae_m",
+            "network_fps",
+            "rmse_m"
+        ]
+    );
+    for errors in [&v["mae_m"], &v["rmse_m"]] {
+        assert_eq!(keys(errors), ["frame", "ip_basic", "network", "submap"]);
+        assert!(errors["submap"].as_f64().unwrap() > 0.0);
+        assert_eq!(errors["network"].is_number(), network, "{v}");
+    }
+    assert_eq!(v["network_fps"].is_number(), network, "{v}");
+    assert!(v["ego_velocity_error_mps"].as_f64().unwrap() < 0.2, "{v}");
+    let mut images = vec!["frame.png", "submap.png", "ip_basic.png", "lidar.png"];
+    let mut clouds = vec!["submap.ply"];
+    if network {
+        images.push("network.png");
+        clouds.push("network.ply");
+    }
+    for name in images
+        .iter()
+        .chain(["pairs/submap_000019.png", "pairs/lidar_000000.png"].iter())
+    {
+        let info = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(out.join(name)).unwrap(),
+        ))
+        .read_info()
+        .unwrap()
+        .info()
+        .clone();
+        assert_eq!(
+            (info.width, info.height, info.bit_depth),
+            (320, 80, png::BitDepth::Sixteen),
+            "{name}"
+        );
+    }
+    for name in clouds {
+        let points = host_tools::map::lidar::read(&out.join(name)).unwrap();
+        assert!(points.len() > 100, "{name}: {} points", points.len());
+    }
+    // A missing bundle is an error naming it, not a panic.
+    let o = metamoran(&["map", "no-such-bundle", "--no-network"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("no-such-bundle"), "{}", stderr(&o));
+}

@@ -4,7 +4,7 @@
 //! truth's poses alone (central differences of the yaw), not from the simulator's motion model;
 //! the integrated track against the truth's last pose; the submap must densify the depth image.
 
-use host_tools::map::odometry::run;
+use host_tools::map::report::run;
 use host_tools::sim::drive::MOUNT;
 use host_tools::sim::{layout::Preset, radar::RadarKind, simulate};
 
@@ -22,7 +22,7 @@ fn ego_velocity_error_is_within_the_papers_figure() {
     .unwrap();
     let mut errors = Vec::new();
     for b in &bundles {
-        let o = run(b, &MOUNT).unwrap();
+        let (report, o, _) = run(b, &MOUNT, None).unwrap();
         let truth: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(b.join("truth.json")).unwrap()).unwrap();
         let yaw: Vec<f64> = truth["frames"]
@@ -40,15 +40,15 @@ fn ego_velocity_error_is_within_the_papers_figure() {
         }
         // The submap of 20 frames fills many more pixels than one frame, and the integrated
         // poses stay on the true track (2 s of driving).
-        let growth = o.density_growth_factor.unwrap();
+        let growth = report.density_growth_factor.unwrap();
         assert!(growth > 5.0, "density growth factor {growth}");
+        assert_eq!(report.ego_velocity_error_mps, o.ego_velocity_error_mps);
         // Depth images against the lidar-like truth: a regression guard at about twice what
         // this first version measures (frame MAE 2–3 m), not a goal.
-        let (mae, rmse) = (o.mae_m.unwrap(), o.rmse_m.unwrap());
-        assert!(
-            mae.frame < 5.0 && rmse.frame >= mae.frame,
-            "{mae:?} {rmse:?}"
-        );
+        let (mae, rmse) = (report.mae_m.unwrap(), report.rmse_m.unwrap());
+        let frame = (mae.frame.unwrap(), rmse.frame.unwrap());
+        assert!(frame.0 < 5.0 && frame.1 >= frame.0, "{mae:?} {rmse:?}");
+        assert_eq!((mae.network, report.network_fps), (None, None));
         let drift = o.final_position_error_m.unwrap();
         assert!(drift < 0.2, "position error {drift} m after 20 frames");
         for k in 1..yaw.len() - 1 {

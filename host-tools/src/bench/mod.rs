@@ -3,4 +3,5 @@
 pub mod budget;
 pub mod fft;
 pub mod m7;
+pub mod network;
 pub mod search;

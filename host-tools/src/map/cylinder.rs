@@ -66,6 +66,21 @@ impl DepthImage {
         self.range_m.iter().filter(|&&r| r > 0.0).count()
     }
 
+    /// The pixels' points (radar frame, m): each filled pixel's centre ray at its range.
+    pub fn points(&self) -> Vec<[f64; 3]> {
+        self.range_m
+            .iter()
+            .enumerate()
+            .filter(|&(_, &r)| r > 0.0)
+            .map(|(i, &r)| {
+                let d = super::lidar::ray(i / WIDTH, i % WIDTH);
+                // The ray's horizontal length is cos(elevation); the pixel keeps horizontal range.
+                let t = f64::from(r) / d[0].hypot(d[2]);
+                [d[0] * t, d[1] * t, d[2] * t]
+            })
+            .collect()
+    }
+
     /// KITTI encoding (m × 256, 0 = none) for a 16-bit PNG.
     pub fn kitti(&self) -> Vec<u16> {
         self.range_m
@@ -95,5 +110,14 @@ mod tests {
         assert_eq!(img.filled(), 1);
         assert_eq!(img.range_m[40 * WIDTH + 160], 7.0);
         assert_eq!(img.kitti()[40 * WIDTH + 160], 7 * 256);
+        // Back to a point on the pixel's centre ray (0.125° right, 0.25° down) at 7 m.
+        let back = img.points();
+        assert_eq!(back.len(), 1);
+        assert_eq!(pixel(back[0]).map(|(r, c, _)| (r, c)), Some((40, 160)));
+        let (az, el) = (0.125f64.to_radians(), (-0.25f64).to_radians());
+        let want = [7.0 * az.sin(), -7.0 * el.tan(), 7.0 * az.cos()];
+        for k in 0..3 {
+            assert!((back[0][k] - want[k]).abs() < 1e-9, "{back:?} vs {want:?}");
+        }
     }
 }

@@ -3,12 +3,16 @@
 //! the vehicle's velocity from its Doppler (RANSAC, `dsp::ego`) and integrates the poses
 //! ([`pose`]), [`submap`] accumulates the static points of past frames into the current one,
 //! [`cylinder`] projects points into the paper's cylindrical depth images and [`ip_basic`]
-//! completes them by morphology; [`lidar`] is the dense truth they are measured against.
+//! completes them by morphology; [`depth`] builds a frame's images (the network's too, given
+//! one), [`lidar`] is the dense truth they are measured against and [`report`] the figures.
 
 pub mod cloud;
 pub mod cylinder;
+pub mod depth;
 pub mod ip_basic;
 pub mod lidar;
+pub mod network;
 pub mod odometry;
 pub mod pose;
+pub mod report;
 pub mod submap;

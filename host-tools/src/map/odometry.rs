@@ -1,12 +1,10 @@
 //! Doppler odometry: per frame, the radar's velocity by RANSAC over its point cloud
 //! (`dsp::ego`), the vehicle's speed and yaw rate by the Ackermann relation, the integrated
-//! pose, and, where the bundle has truth, the errors against it; then the submap of the last
-//! frame and its density growth factor.
+//! pose, and, where the bundle has truth, the errors against it. Its poses and static points
+//! are what [`super::depth`] builds submaps from.
 
 use super::cloud::{Clouds, default_options};
-use super::cylinder::DepthImage;
 use super::pose::Pose;
-use super::submap::{accumulate, density_growth};
 use crate::bundle::{Bundle, OpenOptions};
 use dsp::ego::{Detection, Mount, Ransac, estimate};
 use serde::Serialize;
@@ -41,60 +39,12 @@ pub struct Odometry {
     pub frames: Vec<OdometryFrame>,
     /// Mean error norm over the frames with an estimate and truth, m/s.
     pub ego_velocity_error_mps: Option<f64>,
-    /// Filled pixels of the last frame's submap (every frame's static points, moved by the
-    /// integrated odometry) over those of the last frame alone (the paper's definition).
-    pub density_growth_factor: Option<f64>,
     /// Distance between the integrated and the true position of the radar at the last frame, m.
     pub final_position_error_m: Option<f64>,
-    /// Depth-image errors against the lidar-like truth of the last frame (where the bundle
-    /// has `lidar/`): mean absolute error, m.
-    pub mae_m: Option<ImageErrors>,
-    /// The same, root mean square, m.
-    pub rmse_m: Option<ImageErrors>,
-    /// The last frame's depth images.
+    /// Per frame, the integrated pose and the static points (RANSAC inliers) in that frame's
+    /// radar frame (x right, y down, z forward, m): what submaps are built from.
     #[serde(skip)]
-    pub images: Option<LastImages>,
-}
-
-/// The depth images of the last frame.
-#[derive(Clone, Debug)]
-pub struct LastImages {
-    /// The frame's own points.
-    pub frame: DepthImage,
-    /// Its submap's.
-    pub submap: DepthImage,
-    /// The submap completed by IP-Basic.
-    pub ip_basic: DepthImage,
-}
-
-/// One error per depth image, each over the pixels where it and the lidar image both have a
-/// depth.
-#[derive(Clone, Copy, Debug, Serialize)]
-pub struct ImageErrors {
-    /// The radar frame's depth image.
-    pub frame: f64,
-    /// The submap's.
-    pub submap: f64,
-    /// The submap completed by IP-Basic.
-    pub ip_basic: f64,
-}
-
-/// (MAE, RMSE) of `image` against `truth` over the pixels where both have a depth; `None`
-/// without overlap.
-pub fn image_errors(image: &[f32], truth: &[f32]) -> Option<(f64, f64)> {
-    let d: Vec<f64> = image
-        .iter()
-        .zip(truth)
-        .filter(|&(&a, &b)| a > 0.0 && b > 0.0)
-        .map(|(&a, &b)| f64::from(a) - f64::from(b))
-        .collect();
-    (!d.is_empty()).then(|| {
-        let n = d.len() as f64;
-        (
-            d.iter().map(|e| e.abs()).sum::<f64>() / n,
-            (d.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
-        )
-    })
+    pub tracked: Vec<(Pose, Vec<[f64; 3]>)>,
 }
 
 /// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
@@ -174,47 +124,6 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
         });
     }
     let velocity_errors: Vec<f64> = frames.iter().filter_map(|f| f.error_mps).collect();
-    let (images, growth) = match tracked.len() {
-        0 => (None, None),
-        n => {
-            let frame = DepthImage::project(tracked[n - 1].1.iter().copied());
-            let submap = DepthImage::project(accumulate(&tracked, 0, n - 1));
-            let growth = density_growth(&frame, &submap);
-            let ip_basic = DepthImage {
-                range_m: super::ip_basic::complete(&submap.range_m),
-            };
-            let images = LastImages {
-                frame,
-                submap,
-                ip_basic,
-            };
-            (Some(images), growth)
-        }
-    };
-    let last = bundle.frames().saturating_sub(1);
-    let lidar_file = super::lidar::path(dir, last);
-    let lidar = if lidar_file.exists() {
-        Some(super::lidar::read(&lidar_file).map_err(|e| e.to_string())?)
-    } else {
-        None
-    };
-    // (MAE, RMSE) of each image against the lidar's, computed once.
-    let errors = images.as_ref().zip(lidar.as_ref()).and_then(|(im, lidar)| {
-        let truth = DepthImage::project(lidar.iter().copied());
-        Some([
-            image_errors(&im.frame.range_m, &truth.range_m)?,
-            image_errors(&im.submap.range_m, &truth.range_m)?,
-            image_errors(&im.ip_basic.range_m, &truth.range_m)?,
-        ])
-    });
-    let pick = |k: fn(&(f64, f64)) -> f64| {
-        errors.map(|[f, s, i]| ImageErrors {
-            frame: k(&f),
-            submap: k(&s),
-            ip_basic: k(&i),
-        })
-    };
-    let (mae_m, rmse_m) = (pick(|e| e.0), pick(|e| e.1));
     let final_position_error_m = truth
         .as_ref()
         .and_then(|t| t.frames.last())
@@ -223,11 +132,8 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
     Ok(Odometry {
         ego_velocity_error_mps: (!velocity_errors.is_empty())
             .then(|| velocity_errors.iter().sum::<f64>() / velocity_errors.len() as f64),
-        density_growth_factor: growth,
         final_position_error_m,
-        mae_m,
-        rmse_m,
-        images,
         frames,
+        tracked,
     })
 }

@@ -16,6 +16,9 @@
 //! * Depth output 0: `f32 [1, 1, H, W]` or `[1, H, W]`, metres along the optical axis; values
 //!   that are not finite and positive mean "no estimate".
 //!
+//! It also runs the radar's own network, [`RadarHr`]: 3D-RadarHR of the dense-radar-mapping
+//! paper, which completes a sparse radar submap depth image into a dense one.
+//!
 //! This crate is kept apart because tract takes 11–16 minutes to build from cold: nothing in
 //! the `dsp`/firmware edit–test loop depends on it.
 
@@ -24,10 +27,12 @@ pub mod error;
 pub mod image;
 pub mod instances;
 pub mod network;
+pub mod radarhr;
 pub mod segmenter;
 
 pub use depth::DepthNetwork;
 pub use error::VisionError;
 pub use image::Image;
 pub use network::Network;
+pub use radarhr::RadarHr;
 pub use segmenter::{ClassMap, Segmenter};

@@ -9,7 +9,35 @@ use std::sync::{Arc, Mutex};
 use tract_onnx::prelude::*;
 use tract_onnx::tract_hir::infer::Factoid;
 
-type Plan = Arc<TypedRunnableModel>;
+pub(crate) type Plan = Arc<TypedRunnableModel>;
+
+/// The shape of `model`'s first input, `None` where a dimension is free.
+pub(crate) fn input_dims(model: &InferenceModel) -> TractResult<Vec<Option<usize>>> {
+    Ok(model
+        .input_fact(0)?
+        .shape
+        .dims()
+        .map(|d| {
+            d.concretize()
+                .and_then(|d| d.to_i64().ok())
+                .map(|d| d as usize)
+        })
+        .collect())
+}
+
+/// A string property of `model` (ONNX `metadata_props` key `key`).
+pub(crate) fn metadata(model: &InferenceModel, key: &str) -> Option<String> {
+    model
+        .properties
+        .get(&format!("onnx.metadata_props.{key}"))
+        .and_then(|t| {
+            t.try_as_plain_ram()
+                .ok()?
+                .to_scalar::<String>()
+                .ok()
+                .cloned()
+        })
+}
 
 /// A loaded network; optimized plans are built once per input size and kept.
 pub struct Network {
@@ -55,16 +83,7 @@ impl Network {
                 model.inputs.len()
             )));
         }
-        let fact = model.input_fact(0).map_err(load)?;
-        let dims: Vec<Option<usize>> = fact
-            .shape
-            .dims()
-            .map(|d| {
-                d.concretize()
-                    .and_then(|d| d.to_i64().ok())
-                    .map(|d| d as usize)
-            })
-            .collect();
+        let dims = input_dims(&model).map_err(load)?;
         if dims.len() != 4 || dims[0].is_some_and(|b| b != 1) || dims[1].is_some_and(|c| c != 3) {
             return Err(contract(format!(
                 "its input is {dims:?} (None = free); the contract is [1, 3, H, W]"
@@ -86,16 +105,7 @@ impl Network {
 
     /// A string property of the model (ONNX `metadata_props` key `key`).
     pub fn metadata(&self, key: &str) -> Option<String> {
-        self.model
-            .properties
-            .get(&format!("onnx.metadata_props.{key}"))
-            .and_then(|t| {
-                t.try_as_plain_ram()
-                    .ok()?
-                    .to_scalar::<String>()
-                    .ok()
-                    .cloned()
-            })
+        metadata(&self.model, key)
     }
 
     /// The input size the model fixes, `(width, height)`, if it does.

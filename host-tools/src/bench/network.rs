@@ -1,0 +1,107 @@
+//! `metamoran bench network`: 3D-RadarHR's time per depth image on this host against IP-Basic's
+//! (the paper's conventional completion) on the same drive submaps, measured in one run, and the
+//! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal.
+
+use crate::map::{depth, network::Network, odometry};
+use crate::sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
+use serde::Serialize;
+use std::time::Instant;
+
+/// Drive scenes the figures are taken over (seed 77).
+pub const SCENES: u64 = 3;
+/// Timed repetitions per submap (after one untimed).
+pub const REPEATS: u32 = 10;
+
+/// The report.
+#[derive(Clone, Debug, Serialize)]
+pub struct NetworkReport {
+    /// Submaps timed.
+    pub submaps: usize,
+    /// Network, ms per 320 × 80 image.
+    pub network_ms: f64,
+    /// IP-Basic (the baseline), ms per image.
+    pub ip_basic_ms: f64,
+    /// `network_ms / ip_basic_ms`.
+    pub ratio: f64,
+    /// Network inferences per second.
+    pub network_fps: f64,
+    /// The map path per radar frame without the network (point cloud, RANSAC, submap
+    /// projection), ms: odometry and submaps over the scenes' frames divided by their count.
+    pub map_path_ms: f64,
+    /// Frames per second of the whole path with the network, `1000 / (map_path_ms + network_ms)`.
+    pub path_fps: f64,
+}
+
+fn per_run(mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
+    f()?;
+    let t = Instant::now();
+    for _ in 0..REPEATS {
+        f()?;
+    }
+    Ok(t.elapsed().as_secs_f64() * 1e3 / f64::from(REPEATS))
+}
+
+/// Runs on [`SCENES`] simulated drive scenes with the shipped network.
+///
+/// # Errors
+/// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
+pub fn run() -> Result<NetworkReport, String> {
+    let network = Network::load(None)?;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let bundles = simulate(
+        Preset::Drive,
+        RadarKind::Xwr18xx,
+        77,
+        SCENES,
+        dir.path(),
+        false,
+    )?;
+    let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
+    for b in &bundles {
+        let t = Instant::now();
+        let o = odometry::run(b, &MOUNT)?;
+        let n = o.tracked.len();
+        let submaps: Vec<_> = (0..n).map(|k| depth::submap(&o, k).1).collect();
+        path_ms += t.elapsed().as_secs_f64() * 1e3;
+        frames += n;
+        let last = &submaps[n - 1].range_m;
+        network_ms += per_run(|| network.complete(last).map(drop))?;
+        ip_basic_ms += per_run(|| {
+            crate::map::ip_basic::complete(last);
+            Ok(())
+        })?;
+    }
+    let s = bundles.len() as f64;
+    let (network_ms, ip_basic_ms) = (network_ms / s, ip_basic_ms / s);
+    let map_path_ms = path_ms / frames as f64;
+    Ok(NetworkReport {
+        submaps: bundles.len(),
+        network_ms,
+        ip_basic_ms,
+        ratio: network_ms / ip_basic_ms,
+        network_fps: 1e3 / network_ms,
+        map_path_ms,
+        path_fps: 1e3 / (map_path_ms + network_ms),
+    })
+}
+
+impl std::fmt::Display for NetworkReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "Depth completion of a 320 × 80 drive submap ({} submaps, {} runs each)",
+            self.submaps, REPEATS
+        )?;
+        writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
+        writeln!(
+            f,
+            "  3D-RadarHR (tract)   {:>7.2} ms  {:.1}× IP-Basic, {:.0} Hz",
+            self.network_ms, self.ratio, self.network_fps
+        )?;
+        writeln!(
+            f,
+            "  map path per frame without the network {:.1} ms; with it {:.0} Hz",
+            self.map_path_ms, self.path_fps
+        )
+    }
+}

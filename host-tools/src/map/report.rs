@@ -1,0 +1,118 @@
+//! The mapping report (the paper's Tables 1–3 for one bundle): ego-velocity error, density
+//! growth, MAE and RMSE of each depth image against the lidar truth, and the network's frame
+//! rate. Its JSON is what `metamoran map --json` prints.
+
+use super::depth::{self, Completion, DepthImages};
+use super::odometry::{self, Odometry};
+use super::submap::density_growth;
+use dsp::ego::Mount;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// Timed inferences behind [`MapReport::network_fps`] (after one untimed).
+pub const FPS_RUNS: u32 = 5;
+
+/// One error per depth image of the last frame, each over the pixels where it and the lidar
+/// image both have a depth, m; `null` where they share none (or, for `network`, without one).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct ImageErrors {
+    /// The radar frame's depth image.
+    pub frame: Option<f64>,
+    /// The submap's.
+    pub submap: Option<f64>,
+    /// The submap completed by IP-Basic.
+    pub ip_basic: Option<f64>,
+    /// The submap completed by the network.
+    pub network: Option<f64>,
+}
+
+/// A bundle's mapping figures.
+#[derive(Clone, Debug, Serialize)]
+pub struct MapReport {
+    /// Mean ego-velocity error norm over the frames, m/s (needs truth).
+    pub ego_velocity_error_mps: Option<f64>,
+    /// Filled pixels of the last frame's submap over those of the frame alone.
+    pub density_growth_factor: Option<f64>,
+    /// Mean absolute depth error against the lidar truth, m (needs `lidar/`).
+    pub mae_m: Option<ImageErrors>,
+    /// Root-mean-square depth error against the lidar truth, m.
+    pub rmse_m: Option<ImageErrors>,
+    /// Network inferences per second on this machine (mean of [`FPS_RUNS`] on the last
+    /// submap), or `null` without a network.
+    pub network_fps: Option<f64>,
+}
+
+/// (MAE, RMSE) of `image` against `truth` over the pixels where both have a depth; `None`
+/// without overlap.
+pub fn image_errors(image: &[f32], truth: &[f32]) -> Option<(f64, f64)> {
+    let d: Vec<f64> = image
+        .iter()
+        .zip(truth)
+        .filter(|&(&a, &b)| a > 0.0 && b > 0.0)
+        .map(|(&a, &b)| f64::from(a) - f64::from(b))
+        .collect();
+    (!d.is_empty()).then(|| {
+        let n = d.len() as f64;
+        (
+            d.iter().map(|e| e.abs()).sum::<f64>() / n,
+            (d.iter().map(|e| e * e).sum::<f64>() / n).sqrt(),
+        )
+    })
+}
+
+/// (MAE, RMSE) of each image against the lidar image, if there is one.
+pub fn errors(images: &DepthImages) -> Option<(ImageErrors, ImageErrors)> {
+    let truth = &images.lidar.as_ref()?.range_m;
+    let e = |img: Option<&super::cylinder::DepthImage>| {
+        img.and_then(|i| image_errors(&i.range_m, truth))
+    };
+    let all = [
+        e(Some(&images.frame)),
+        e(Some(&images.submap)),
+        e(Some(&images.ip_basic)),
+        e(images.network.as_ref()),
+    ];
+    let pick = |k: fn((f64, f64)) -> f64| ImageErrors {
+        frame: all[0].map(k),
+        submap: all[1].map(k),
+        ip_basic: all[2].map(k),
+        network: all[3].map(k),
+    };
+    Some((pick(|e| e.0), pick(|e| e.1)))
+}
+
+/// Maps the bundle in `dir` (radar on `mount`): odometry, the last frame's depth images (the
+/// network's too, if given) and the report.
+///
+/// # Errors
+/// A message naming the file and field of a bad bundle, or the network's.
+pub fn run(
+    dir: &Path,
+    mount: &Mount,
+    network: Option<Completion>,
+) -> Result<(MapReport, Odometry, Option<DepthImages>), String> {
+    let odometry = odometry::run(dir, mount)?;
+    let images = depth::last(dir, &odometry, network)?;
+    let network_fps = match (network, &images) {
+        (Some(n), Some(im)) => {
+            let start = Instant::now();
+            for _ in 0..FPS_RUNS {
+                n(&im.submap.range_m)?;
+            }
+            Some(f64::from(FPS_RUNS) / start.elapsed().as_secs_f64())
+        }
+        _ => None,
+    };
+    let errors = images.as_ref().and_then(errors);
+    let report = MapReport {
+        ego_velocity_error_mps: odometry.ego_velocity_error_mps,
+        density_growth_factor: images
+            .as_ref()
+            .and_then(|im| density_growth(&im.frame, &im.submap)),
+        mae_m: errors.map(|e| e.0),
+        rmse_m: errors.map(|e| e.1),
+        network_fps,
+    };
+    Ok((report, odometry, images))
+}
