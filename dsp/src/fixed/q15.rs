@@ -46,7 +46,7 @@ impl Q15 {
 
 /// Rounds `y` half away from zero and clamps it to `[lo, hi]`; NaN gives 0.
 pub(crate) const fn round_saturate(y: f64, lo: f64, hi: f64) -> i64 {
-    if y != y {
+    if y.is_nan() {
         return 0;
     }
     let r = if y >= 0.0 { y + 0.5 } else { y - 0.5 };
