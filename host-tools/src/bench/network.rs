@@ -95,7 +95,7 @@ impl std::fmt::Display for NetworkReport {
         writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
         writeln!(
             f,
-            "  3D-RadarHR (tract)   {:>7.2} ms  {:.1}× IP-Basic, {:.0} Hz",
+            "  3D-RadarHR (tract)   {:>7.2} ms  {:.2}× IP-Basic, {:.0} Hz",
             self.network_ms, self.ratio, self.network_fps
         )?;
         writeln!(
