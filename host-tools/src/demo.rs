@@ -149,6 +149,23 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
 }
 
+/// The frames already published, across attempts: with `--edge auto`, when QEMU fails part
+/// way, the in-process rerun replays the scene from its first frame; subscribers must not get
+/// the frames (and their alerts) a second time. Frames arrive in order.
+#[derive(Debug, Default)]
+struct Published(std::cell::Cell<u32>);
+
+impl Published {
+    /// Whether `frame` is new (and from now on published).
+    fn take(&self, frame: u32) -> bool {
+        let new = frame >= self.0.get();
+        if new {
+            self.0.set(frame + 1);
+        }
+        new
+    }
+}
+
 /// What the demo shows as each frame arrives: the perimeter's state, the alerts, the MQTT
 /// publisher and the live view.
 struct Operator<'a> {
@@ -156,6 +173,7 @@ struct Operator<'a> {
     state: OperatorState,
     period_s: f64,
     publisher: Option<&'a crate::mqtt::Publisher>,
+    published: &'a Published,
     view: Option<&'a mut LiveView>,
     /// When the first frame was sent (the live view paces the frames from it).
     started: std::time::Instant,
@@ -188,7 +206,7 @@ impl Operator<'_> {
         let time_s = f64::from(f.frame) * self.period_s;
         let alerts = self.fence.update(f.frame, time_s, &f.objects);
         let tracks = self.tracks(&f.objects);
-        if let Some(p) = self.publisher {
+        if let Some(p) = self.publisher.filter(|_| self.published.take(f.frame)) {
             p.frame(f)?;
             for a in &alerts {
                 p.alert(a)?;
@@ -255,6 +273,7 @@ pub fn run(
     let period = scene.radar.frame_period_s;
 
     let publisher = mqtt.map(crate::mqtt::Publisher::connect).transpose()?;
+    let published = Published::default();
     let mut view = if live { Some(LiveView::start()?) } else { None };
     let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
     let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)";
@@ -272,6 +291,7 @@ pub fn run(
             },
             period_s: period,
             publisher: publisher.as_ref(),
+            published: &published,
             view: view.as_mut(),
             started: std::time::Instant::now(),
         };
@@ -401,4 +421,19 @@ pub fn write_outputs(
     )?;
     files.push("recording.mcap".into());
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Published;
+
+    #[test]
+    fn a_rerun_publishes_only_the_frames_the_failed_run_did_not() {
+        let published = Published::default();
+        // QEMU delivers frames 0..=2, then fails; the in-process rerun replays 0..=4.
+        let first: Vec<bool> = (0..3).map(|f| published.take(f)).collect();
+        let rerun: Vec<u32> = (0..5).filter(|&f| published.take(f)).collect();
+        assert_eq!(first, [true; 3]);
+        assert_eq!(rerun, [3, 4]);
+    }
 }
