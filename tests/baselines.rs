@@ -2,9 +2,9 @@
 //! paper reports: naive fusion has a long error tail in clutter, and monocular depth error grows
 //! with range. Also checks `process --json` against the shape of shared/spec/cli.md.
 
-use host_tools::eval;
-use host_tools::process::Mode;
-use host_tools::sim::{layout::Preset, radar::RadarKind, simulate};
+use metamoran_process::Mode;
+use metamoran_process::eval;
+use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
 
 #[test]
 fn naive_has_a_long_tail_and_monocular_error_grows_with_range() {
@@ -15,10 +15,10 @@ fn naive_has_a_long_tail_and_monocular_error_grows_with_range() {
         20_261_122,
         40,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    let (report, samples) = eval::run(tmp.path(), &[Mode::Naive, Mode::Monocular], false).unwrap();
+    let (report, samples) = eval::run(tmp.path(), &[Mode::Naive, Mode::Monocular], &|| ()).unwrap();
     assert!(report.failed.is_empty(), "{:?}", report.failed);
     assert!(samples.len() >= 40);
     let naive = &report.modes["naive"].all;
@@ -50,12 +50,14 @@ fn process_json_has_the_cli_shape() {
         5,
         1,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    let truth = host_tools::bundle::Truth::read(&dirs[0].join("truth.json"), 1).unwrap();
+    let truth = metamoran_bundle::Truth::read(&dirs[0].join("truth.json"), 1).unwrap();
     for mode in [Mode::Naive, Mode::Monocular] {
-        let out = host_tools::process::process(&dirs[0], mode, Default::default()).unwrap();
+        let out =
+            metamoran_process::process(&dirs[0], &metamoran_process::ProcessOptions::mode(mode))
+                .unwrap();
         let v = serde_json::to_value(&out).unwrap();
         assert_eq!(v["mode"], mode.name());
         let objects = v["frames"][0]["objects"].as_array().unwrap();

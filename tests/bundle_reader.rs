@@ -2,7 +2,7 @@
 //! of violation is an error that names the file and the field.
 
 use dsp::capture::IqOrder;
-use host_tools::bundle::{Bundle, OpenOptions};
+use metamoran_bundle::{Bundle, OpenOptions};
 use std::path::Path;
 
 const SCENE: &str = r#"format = "metamoran-bundle/1"
@@ -265,7 +265,7 @@ fn camera_violations_name_the_file() {
             3,
             png::BitDepth::Sixteen,
             &[0; 24],
-        )
+        );
     });
     assert_names(&err, "000001_mask.png", "8×3");
     let err = error_after(|d| {
@@ -275,7 +275,7 @@ fn camera_violations_name_the_file() {
             4,
             png::BitDepth::Eight,
             &[0; 32],
-        )
+        );
     });
     assert_names(&err, "000000_depth.png", "16-bit");
     let err = error_after(|d| {
@@ -283,7 +283,7 @@ fn camera_violations_name_the_file() {
             d.join("camera/000000_mask.png"),
             b"\x89PNG\r\n\x1a\nnot really",
         )
-        .unwrap()
+        .unwrap();
     });
     assert_names(&err, "000000_mask.png", "PNG");
     let err = error_after(|d| std::fs::remove_file(d.join("camera/000001_depth.png")).unwrap());
@@ -293,7 +293,7 @@ fn camera_violations_name_the_file() {
             d.join("camera/000000_instances.json"),
             r#"{"instances": [{"id": 1, "class": 5}]}"#,
         )
-        .unwrap()
+        .unwrap();
     });
     assert_names(&err, "000000_instances.json", "instances[0].class");
     let err = error_after(|d| {
@@ -301,7 +301,7 @@ fn camera_violations_name_the_file() {
             d.join("camera/000000_instances.json"),
             r#"{"instances": [{"id": 1, "class": "car"}, {"id": 1, "class": "car"}]}"#,
         )
-        .unwrap()
+        .unwrap();
     });
     assert_names(&err, "000000_instances.json", "instances[1].id");
     let err = error_after(|d| {
@@ -309,7 +309,7 @@ fn camera_violations_name_the_file() {
             d.join("camera/000000_instances.json"),
             r#"{"instances": [{"id": 1, "class": "car"}]}"#,
         )
-        .unwrap()
+        .unwrap();
     });
     assert_names(&err, "000000_mask.png", "instance id 2");
 }
@@ -347,9 +347,9 @@ fn elevation_lists_are_optional_and_checked() {
     // The README's extension: tx_elevation / rx_elevation in [radar], one per antenna.
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("b");
-    host_tools::sim::simulate_one(
-        host_tools::sim::layout::Preset::ParkingLot,
-        host_tools::sim::radar::RadarKind::Xwr18xx,
+    metamoran_sim::simulate_one(
+        metamoran_sim::layout::Preset::ParkingLot,
+        metamoran_sim::radar::RadarKind::Xwr18xx,
         1,
         0,
         &dir,

@@ -9,9 +9,9 @@
 //!
 //! The models are written by the `onnx` package from PyPI in the test venv.
 
-use host_tools::bundle::{Bundle, CameraModels, CameraPaths, OpenOptions};
-use host_tools::process::{Mode, process};
+use metamoran_bundle::{Bundle, CameraModels, CameraPaths, OpenOptions};
 use metamoran_e2e::run_oracle;
+use metamoran_process::{Mode, ProcessOptions, process};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -30,11 +30,11 @@ fn json<T: serde::de::DeserializeOwned>(path: &Path) -> T {
 #[test]
 fn tract_runs_a_small_network_as_numpy_does() {
     let Some((_keep, dir)) = models() else { return };
-    let net = vision::Network::load(&dir.join("fixed.onnx")).unwrap();
+    let net = metamoran_vision::Network::load(&dir.join("fixed.onnx")).unwrap();
     assert_eq!(net.fixed_size(), Some((12, 8)));
     let x: Vec<f64> = json(&dir.join("fixed_input.json"));
     let want: Vec<f64> = json(&dir.join("fixed_expected.json"));
-    let image = vision::Image {
+    let image = metamoran_vision::Image {
         width: 12,
         height: 8,
         planes: x.iter().map(|&v| v as f32).collect(),
@@ -49,7 +49,7 @@ fn tract_runs_a_small_network_as_numpy_does() {
         .fold(0.0, f64::max);
     assert!(worst < 1e-5, "largest difference from numpy {worst}");
     // Another image size: resized to the model's 12 × 8 and the output back to the image's.
-    let big = vision::Image {
+    let big = metamoran_vision::Image {
         width: 24,
         height: 16,
         planes: vec![0.5; 3 * 24 * 16],
@@ -121,13 +121,13 @@ fn process_from_the_image_matches_the_bundles_own_products() {
     let Some((_keep, dir)) = models() else { return };
     let palette: serde_json::Value = json(&dir.join("palette.json"));
     let scenes = tempfile::tempdir().unwrap();
-    let bundles = host_tools::sim::simulate(
-        host_tools::sim::layout::Preset::ParkingLot,
-        host_tools::sim::radar::RadarKind::Xwr18xx,
+    let bundles = metamoran_sim::simulate(
+        metamoran_sim::layout::Preset::ParkingLot,
+        metamoran_sim::radar::RadarKind::Xwr18xx,
         21,
         3,
         scenes.path(),
-        false,
+        &|| (),
     )
     .unwrap();
     let models = CameraModels::load(
@@ -177,23 +177,30 @@ fn process_from_the_image_matches_the_bundles_own_products() {
                 assert_eq!(b, 0);
                 continue;
             }
-            if size[&a] < host_tools::bundle::camera_models::MIN_INSTANCE_PIXELS {
+            if size[&a] < metamoran_bundle::camera_models::MIN_INSTANCE_PIXELS {
                 continue;
             }
             assert_eq!(*map.entry(a).or_insert(b), b, "instance {a} split");
             assert_eq!(*back.entry(b).or_insert(a), a, "instances merged into {b}");
         }
         for (a, b) in &map {
-            let class = |insts: &[host_tools::bundle::Instance], id| {
+            let class = |insts: &[metamoran_bundle::Instance], id| {
                 insts.iter().find(|i| i.id == id).unwrap().class.clone()
             };
             assert_eq!(class(&own.instances, *a), class(&made.instances, *b));
         }
 
         // The estimates are the same, object for object.
-        let from_files = process(bundle, Mode::Metamoran, OpenOptions::default()).unwrap();
-        let from_image = process(&image_only, Mode::Metamoran, with_models.clone()).unwrap();
-        let by_id = |out: &host_tools::process::ProcessOutput| -> HashMap<u16, Option<f64>> {
+        let from_files = process(bundle, &ProcessOptions::mode(Mode::Metamoran)).unwrap();
+        let from_image = process(
+            &image_only,
+            &ProcessOptions {
+                open: with_models.clone(),
+                ..ProcessOptions::mode(Mode::Metamoran)
+            },
+        )
+        .unwrap();
+        let by_id = |out: &metamoran_process::ProcessOutput| -> HashMap<u16, Option<f64>> {
             out.frames[0]
                 .objects
                 .iter()

@@ -3,9 +3,9 @@
 //! truth positions) must raise exactly those alerts, and the KITTI depth PNG, decoded by the `png`
 //! decoder, must hold the objects' true camera depths.
 
-use host_tools::demo::{DemoEdge, run};
-use host_tools::geofence::{AlertKind, Perimeter, signed_distance};
-use metamoran_e2e::{oracles_required, qemu_available, run_oracle};
+use metamoran::demo::{DemoEdge, DemoOptions, run};
+use metamoran_e2e::{firmware_dir, oracles_required, qemu_available, run_oracle};
+use metamoran_operator::geofence::{AlertKind, Perimeter, signed_distance};
 
 #[test]
 fn demo_alerts_images_and_points_match_the_truth() {
@@ -17,9 +17,14 @@ fn demo_alerts_images_and_points_match_the_truth() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
-    let report = run(&out, edge, None, None, false).unwrap();
+    let options = |edge| DemoOptions {
+        edge,
+        firmware: Some(firmware_dir()),
+        ..DemoOptions::default()
+    };
+    let report = run(&out, &options(edge)).unwrap();
     // Safe to run twice into the same folder.
-    let again = run(&out, DemoEdge::InProcess, None, None, false).unwrap();
+    let again = run(&out, &options(DemoEdge::InProcess)).unwrap();
     assert_eq!(again.alerts, report.alerts, "the in-process edge disagrees");
 
     let scene = std::fs::read_dir(out.join("scene"))

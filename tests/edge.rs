@@ -2,15 +2,26 @@
 //! must give exactly the JSON of the in-process pipeline, frame after frame.
 
 use dsp::wire::{DEV_KEY, Key};
-use host_tools::bundle::OpenOptions;
-use host_tools::process::{EdgeKind, Mode, process_on};
-use host_tools::sim::radar::RadarKind;
-use host_tools::sim::{layout::Preset, simulate};
-use metamoran_e2e::{oracles_required, qemu_available};
+use metamoran_e2e::{firmware_dir, oracles_required, qemu_available};
+use metamoran_process::{Mode, Module, ProcessOptions, process, process_streamed};
+use metamoran_sim::radar::RadarKind;
+use metamoran_sim::{layout::Preset, simulate};
 use std::path::Path;
 
-fn json(dir: &Path, edge: EdgeKind, key: Key) -> Result<String, String> {
-    let out = process_on(dir, Mode::Metamoran, OpenOptions::default(), edge, key)?;
+/// The module under QEMU with link key `key`.
+fn qemu(key: Key) -> Module {
+    Module::Qemu {
+        firmware: firmware_dir(),
+        key,
+    }
+}
+
+fn json(dir: &Path, module: Module) -> Result<String, String> {
+    let options = ProcessOptions {
+        module,
+        ..ProcessOptions::mode(Mode::Metamoran)
+    };
+    let out = process(dir, &options)?;
     Ok(serde_json::to_string(&out).unwrap())
 }
 
@@ -44,7 +55,7 @@ fn repeat_frames(dir: &Path, frames: u32) {
 
 /// One single-frame xWR18xx bundle of `preset` simulated into `dir`.
 fn one_bundle(preset: Preset, seed: u64, dir: &Path) -> std::path::PathBuf {
-    simulate(preset, RadarKind::Xwr18xx, seed, 1, dir, false).unwrap();
+    simulate(preset, RadarKind::Xwr18xx, seed, 1, dir, &|| ()).unwrap();
     std::fs::read_dir(dir)
         .unwrap()
         .next()
@@ -67,10 +78,18 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
         71,
         2,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    simulate(Preset::Moving, RadarKind::Xwr18xx, 72, 1, tmp.path(), false).unwrap();
+    simulate(
+        Preset::Moving,
+        RadarKind::Xwr18xx,
+        72,
+        1,
+        tmp.path(),
+        &|| (),
+    )
+    .unwrap();
     let mut bundles: Vec<_> = std::fs::read_dir(tmp.path())
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -79,8 +98,8 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
     repeat_frames(&bundles[0], 3);
     let mut detected = 0;
     for b in &bundles {
-        let here = json(b, EdgeKind::InProcess, Key::new(&DEV_KEY)).unwrap();
-        let module = json(b, EdgeKind::Qemu, Key::new(&DEV_KEY)).unwrap();
+        let here = json(b, Module::InProcess).unwrap();
+        let module = json(b, qemu(Key::new(&DEV_KEY))).unwrap();
         assert_eq!(module, here, "{}", b.display());
         detected += here.matches("\"detected\":true").count();
     }
@@ -95,7 +114,7 @@ fn qemu_edge_refuses_a_wrong_link_key() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let b = one_bundle(Preset::LongRange, 73, tmp.path());
-    let err = json(&b, EdgeKind::Qemu, Key::new(&[0x42; 32])).unwrap_err();
+    let err = json(&b, qemu(Key::new(&[0x42; 32]))).unwrap_err();
     assert!(err.contains("--link-key"), "{err}");
 }
 
@@ -109,18 +128,15 @@ fn qemu_edge_logs_through_defmt() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let b = one_bundle(Preset::ParkingLot, 74, tmp.path());
-    let (out, log) = host_tools::process::process_logged(
-        &b,
-        Mode::Metamoran,
-        OpenOptions::default(),
-        EdgeKind::Qemu,
-        Key::new(&DEV_KEY),
-    )
-    .unwrap();
+    let options = ProcessOptions {
+        module: qemu(Key::new(&DEV_KEY)),
+        ..ProcessOptions::mode(Mode::Metamoran)
+    };
+    let (out, log) = process_streamed(&b, &options, |_| Ok(())).unwrap();
     let log = log.expect("the QEMU module reports when it stops");
     assert!(log.health.stack_bytes > 1024, "{:?}", log.health);
     assert_eq!(log.health.frames, 1);
-    let text = host_tools::edge::decode_defmt(&log.elf, &log.defmt);
+    let text = metamoran_edge::link::decode_defmt(&log.elf, &log.defmt);
     if text.contains("cargo install defmt-print") {
         assert!(!oracles_required(), "defmt-print is required: {text}");
         return;

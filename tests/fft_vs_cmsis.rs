@@ -3,7 +3,7 @@
 //! not bit-identical to the Cortex-M7 build, so SQNR is compared, not bits; the M7 figures from
 //! the issue are checked as fixed floors as well.
 
-use host_tools::bench::fft::run;
+use metamoran::bench::fft::run;
 use metamoran_e2e::oracles_required;
 
 #[test]

@@ -4,10 +4,12 @@
 //! SIC is weaker than before at every reflector SIC cancelled, and the PNGs decode with the
 //! colours their legends name.
 
-use host_tools::bundle::OpenOptions;
-use host_tools::inspect::{self, ObjectView};
-use host_tools::process::{Mode, process, write_products};
-use host_tools::sim::{layout::Preset, radar::RadarKind, simulate};
+use metamoran_bundle::OpenOptions;
+use metamoran_operator::inspect;
+use metamoran_operator::outputs::write_products;
+use metamoran_process::inspect::ObjectView;
+use metamoran_process::{Mode, ProcessOptions, process};
+use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
 
 fn decode_rgb(path: &std::path::Path) -> (u32, u32, Vec<[u8; 3]>) {
     let decoder = png::Decoder::new(std::io::BufReader::new(
@@ -42,7 +44,7 @@ fn inspect_and_process_out_show_what_the_module_decided() {
         3,
         1,
         &dir.path().join("scenes"),
-        false,
+        &|| (),
     )
     .unwrap();
     let bundle = &bundles[0];
@@ -86,7 +88,7 @@ fn inspect_and_process_out_show_what_the_module_decided() {
 
     // process --out: the same plots plus results.json, the depth image and the point cloud.
     let products = dir.path().join("products");
-    let output = process(bundle, Mode::Metamoran, OpenOptions::default()).unwrap();
+    let output = process(bundle, &ProcessOptions::mode(Mode::Metamoran)).unwrap();
     let files = write_products(&products, bundle, OpenOptions::default(), &output).unwrap();
     for f in ["results.json", "depth_0.png", "points_0.ply"] {
         assert!(

@@ -2,9 +2,9 @@
 //! (`oracles/ip_basic.py`, opencv-python-headless in the test venv), on a radar submap's depth
 //! image and on a random sparse one.
 
-use host_tools::map::cylinder::{HEIGHT, WIDTH};
-use host_tools::map::ip_basic::complete;
 use metamoran_e2e::run_oracle;
+use metamoran_map::cylinder::{HEIGHT, WIDTH};
+use metamoran_map::ip_basic::complete;
 
 fn compare(depth: &[f32], what: &str) {
     let dir = tempfile::tempdir().unwrap();
@@ -63,17 +63,17 @@ fn completion_matches_opencv() {
     compare(&sparse, "random");
     // A drive scene's submap.
     let scenes = tempfile::tempdir().unwrap();
-    let dirs = host_tools::sim::simulate(
-        host_tools::sim::layout::Preset::Drive,
-        host_tools::sim::radar::RadarKind::Xwr18xx,
+    let dirs = metamoran_sim::simulate(
+        metamoran_sim::layout::Preset::Drive,
+        metamoran_sim::radar::RadarKind::Xwr18xx,
         8,
         1,
         scenes.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    let o = host_tools::map::odometry::run(&dirs[0], &host_tools::sim::drive::MOUNT).unwrap();
-    let images = host_tools::map::depth::last(&dirs[0], &o, None)
+    let o = metamoran_map::odometry::run(&dirs[0], &metamoran_sim::drive::MOUNT).unwrap();
+    let images = metamoran_map::depth::last(&dirs[0], &o, None)
         .unwrap()
         .unwrap();
     compare(&images.submap.range_m, "submap");

@@ -2,13 +2,13 @@
 //! search agrees with the brute-force reference, and the method meets the accuracy goals.
 
 use dsp::search::depth::FINE_STEPS_PER_BIN;
-use host_tools::bundle::{Bundle, OpenOptions};
-use host_tools::eval;
-use host_tools::geometry::CameraModel;
-use host_tools::process::Mode;
-use host_tools::process::camera_points::objects_of_interest;
-use host_tools::process::metamoran::{StaticScene, both_searches, prepare};
-use host_tools::sim::{layout::Preset, radar::RadarKind, simulate};
+use metamoran_bundle::geometry::CameraModel;
+use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_process::Mode;
+use metamoran_process::camera_points::objects_of_interest;
+use metamoran_process::eval;
+use metamoran_process::metamoran::{StaticScene, both_searches, prepare};
+use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
 
 #[test]
 fn coarse_to_fine_agrees_with_brute_force() {
@@ -19,7 +19,7 @@ fn coarse_to_fine_agrees_with_brute_force() {
         31_337,
         24,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
     let (mut agree, mut total, mut worst_ratio) = (0, 0, f64::INFINITY);
@@ -63,7 +63,7 @@ fn meets_the_accuracy_goals_on_static_scenes() {
         90_001,
         30,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
     simulate(
@@ -72,10 +72,10 @@ fn meets_the_accuracy_goals_on_static_scenes() {
         90_002,
         30,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    let (report, samples) = eval::run(tmp.path(), &[Mode::Metamoran, Mode::Naive], false).unwrap();
+    let (report, samples) = eval::run(tmp.path(), &[Mode::Metamoran, Mode::Naive], &|| ()).unwrap();
     println!("{report}");
     let m = &report.modes["metamoran"].all;
     assert!(m.mae_m.unwrap() <= 0.20, "median error {:?}", m.mae_m);
@@ -109,10 +109,10 @@ fn finds_moving_cars_to_300_m() {
         90_003,
         24,
         tmp.path(),
-        false,
+        &|| (),
     )
     .unwrap();
-    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], false).unwrap();
+    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], &|| ()).unwrap();
     let good = |s: &eval::Sample| s.error_m.is_some_and(|e| e.abs() < 1.0);
     let cars: Vec<&eval::Sample> = samples.iter().filter(|s| s.class == "car").collect();
     let far: Vec<&eval::Sample> = cars.iter().copied().filter(|s| s.truth_m > 200.0).collect();

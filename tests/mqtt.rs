@@ -4,9 +4,9 @@
 //! that connects afterwards), and a publisher that drops its connection without a DISCONNECT
 //! must leave the broker's last will, `offline`, retained.
 
-use host_tools::demo::{DemoEdge, run};
-use host_tools::mqtt::{MqttConfig, Publisher};
+use metamoran::demo::{DemoEdge, DemoOptions, run};
 use metamoran_e2e::oracles_required;
+use metamoran_operator::mqtt::{MqttConfig, Publisher};
 use rumqttc::{Client, Event, MqttOptions, Packet, QoS};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -85,7 +85,17 @@ fn demo_publishes_objects_alerts_status_and_last_will() {
     let config = MqttConfig::parse(&format!("127.0.0.1:{port}"), "gate").unwrap();
     let mut report = None;
     let live = listen(port, "watcher", || {
-        report = Some(run(dir.path(), DemoEdge::InProcess, None, Some(&config), false).unwrap());
+        report = Some(
+            run(
+                dir.path(),
+                &DemoOptions {
+                    edge: DemoEdge::InProcess,
+                    mqtt: Some(config.clone()),
+                    ..DemoOptions::default()
+                },
+            )
+            .unwrap(),
+        );
     });
     let report = report.unwrap();
     let on = |topic: &str| -> Vec<&(String, String, bool)> {

@@ -1,8 +1,8 @@
 //! The firmware under QEMU (mps2-an500, Cortex-M7): it must boot, run the self-test, and
 //! compute exactly the bits the host computes with the same `dsp` code.
 
-use host_tools::qemu;
 use metamoran_e2e::{oracles_required, qemu_available};
+use metamoran_edge::qemu;
 use std::time::Duration;
 
 #[test]
@@ -15,7 +15,7 @@ fn firmware_self_test_matches_host_bit_for_bit() {
         eprintln!("SKIPPED: qemu-system-arm not installed");
         return;
     }
-    let elf = qemu::build("firmware").unwrap();
+    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "firmware").unwrap();
     let out = qemu::run(&elf, false, Duration::from_secs(60)).unwrap();
     let module: Vec<&str> = out
         .lines()
@@ -26,7 +26,7 @@ fn firmware_self_test_matches_host_bit_for_bit() {
         host.push(format!(
             "SELFTEST {} exp={} hash={:08x}",
             o.name, o.exponent, o.hash
-        ))
+        ));
     });
     assert!(
         out.contains("SELFTEST done"),
@@ -48,7 +48,7 @@ fn pipeline_on_the_m7_matches_host_and_truth() {
         eprintln!("SKIPPED: qemu-system-arm not installed");
         return;
     }
-    let elf = qemu::build("pipeline-icount").unwrap();
+    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "pipeline-icount").unwrap();
     let out = qemu::run(&elf, true, Duration::from_secs(120)).unwrap();
     let module: Vec<&str> = out.lines().filter(|l| l.starts_with("PIPELINE ")).collect();
     // The same pipeline on the host.
@@ -90,7 +90,7 @@ fn pipeline_on_the_m7_matches_host_and_truth() {
         .and_then(|v| v.trim().parse().ok())
         .unwrap_or_else(|| panic!("no frame count in:\n{out}"));
     assert!(
-        frame <= host_tools::bench::budget::INSTRUCTION_BUDGET,
+        frame <= metamoran::bench::budget::INSTRUCTION_BUDGET,
         "{frame} instructions per frame, over the budget (scripts/profile-m7 shows where)"
     );
 }

@@ -9,12 +9,12 @@
 //! * a model that breaks the contract, or a bad depth image, is refused with a message naming
 //!   the model.
 
-use host_tools::map::{depth, report};
-use host_tools::sim::drive::MOUNT;
-use host_tools::sim::{layout::Preset, radar::RadarKind, simulate};
 use metamoran_e2e::run_oracle;
+use metamoran_map::{depth, report};
+use metamoran_sim::drive::MOUNT;
+use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
+use metamoran_vision::RadarHr;
 use std::path::PathBuf;
-use vision::RadarHr;
 
 fn drives(seed: u64, count: u64) -> (tempfile::TempDir, Vec<PathBuf>) {
     let dir = tempfile::tempdir().unwrap();
@@ -24,7 +24,7 @@ fn drives(seed: u64, count: u64) -> (tempfile::TempDir, Vec<PathBuf>) {
         seed,
         count,
         dir.path(),
-        false,
+        &|| (),
     )
     .unwrap();
     (dir, dirs)
@@ -33,7 +33,7 @@ fn drives(seed: u64, count: u64) -> (tempfile::TempDir, Vec<PathBuf>) {
 #[test]
 fn tract_runs_the_shipped_network_as_numpy_does() {
     let (_keep, dirs) = drives(8, 1);
-    let odometry = host_tools::map::odometry::run(&dirs[0], &MOUNT).unwrap();
+    let odometry = metamoran_map::odometry::run(&dirs[0], &MOUNT).unwrap();
     let images = depth::last(&dirs[0], &odometry, None).unwrap().unwrap();
     let net = RadarHr::shipped().unwrap();
     assert_eq!(net.size(), (320, 80));
@@ -47,7 +47,7 @@ fn tract_runs_the_shipped_network_as_numpy_does() {
         tmp.path().join("in.f32"),
         tmp.path().join("out.f64"),
     );
-    std::fs::write(&model, vision::radarhr::SHIPPED).unwrap();
+    std::fs::write(&model, metamoran_vision::radarhr::SHIPPED).unwrap();
     let bytes: Vec<u8> = images
         .submap
         .range_m
@@ -100,7 +100,7 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
         submap_mae += mae.submap.unwrap();
         // Dense: nearly every pixel the lidar sees (the submap covers 3–5 %).
         let lidar = images.lidar.unwrap();
-        let covered = |img: &host_tools::map::cylinder::DepthImage| {
+        let covered = |img: &metamoran_map::cylinder::DepthImage| {
             img.range_m
                 .iter()
                 .zip(&lidar.range_m)
@@ -127,7 +127,7 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
 fn bad_models_and_images_are_refused_naming_the_model() {
     let tmp = tempfile::tempdir().unwrap();
     let cut = tmp.path().join("cut.onnx");
-    std::fs::write(&cut, &vision::radarhr::SHIPPED[..1000]).unwrap();
+    std::fs::write(&cut, &metamoran_vision::radarhr::SHIPPED[..1000]).unwrap();
     let err = RadarHr::load(&cut).err().unwrap().to_string();
     assert!(err.contains("cut.onnx"), "{err}");
     let missing = tmp.path().join("missing.onnx");

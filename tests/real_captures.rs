@@ -4,9 +4,9 @@
 use dsp::capture::IqOrder;
 use dsp::units::signed_bin;
 use dsp::window::WindowKind;
-use host_tools::capture::open_bare;
-use host_tools::frame::{FrameOptions, FrameProcessor, FrameSpectra};
+use metamoran_bundle::capture::open_bare;
 use metamoran_e2e::{real_capture_config, real_capture_dir, top_k};
+use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 use serde_json::Value;
 
 fn expected(name: &str) -> Value {

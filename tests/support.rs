@@ -2,16 +2,35 @@
 
 use std::path::PathBuf;
 
-/// `shared/data/real/<name>`.
-pub fn real_capture_dir(name: &str) -> PathBuf {
-    host_tools::shared_dir().join("data/real").join(name)
+/// The shared data folder: `$METAMORAN_SHARED`, else `shared/` beside the checkout.
+pub fn shared_dir() -> PathBuf {
+    std::env::var_os("METAMORAN_SHARED").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared"),
+        PathBuf::from,
+    )
 }
 
-/// The radar config we ship for real capture `name`.
+/// The firmware's Cargo workspace of this checkout.
+pub fn firmware_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../firmware")
+}
+
+/// `shared/data/real/<name>`.
+pub fn real_capture_dir(name: &str) -> PathBuf {
+    shared_dir().join("data/real").join(name)
+}
+
+/// The radar config we ship for real capture `name`: beside the tests, or in the binary's data
+/// (the one `metamoran demo-capture` embeds).
 pub fn real_capture_config(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("data/real")
-        .join(format!("{name}.toml"))
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let file = format!("{name}.toml");
+    let here = root.join("data/real").join(&file);
+    if here.exists() {
+        here
+    } else {
+        root.join("../host-tools/data").join(file)
+    }
 }
 
 /// Whether tests that need an external oracle (venv, QEMU) must run rather than skip:
@@ -30,14 +49,14 @@ pub fn top_k(x: &[f32], k: usize) -> Vec<usize> {
 
 /// Whether `qemu-system-arm` runs on this machine.
 pub fn qemu_available() -> bool {
-    host_tools::qemu::available()
+    metamoran_edge::qemu::available()
 }
 
 /// Runs Python oracle `tests/oracles/<script>` with `args` in the test venv; its stdout. `None`
 /// (the caller skips) when there is no venv and the oracles are not required; `what` names the
 /// package the oracle needs.
 pub fn run_oracle(script: &str, args: &[&std::ffi::OsStr], what: &str) -> Option<Vec<u8>> {
-    let Some(py) = host_tools::oracle::venv_python() else {
+    let Some(py) = metamoran::bench::cmsis::venv_python() else {
         assert!(!oracles_required(), "the test venv ({what}) is required");
         eprintln!("SKIPPED: no test venv for {what}");
         return None;

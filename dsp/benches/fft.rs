@@ -31,38 +31,35 @@ fn ffts(c: &mut Criterion) {
             .iter()
             .map(|z| Complex32::new(z.re.to_f32(), z.im.to_f32()))
             .collect();
-        let xr: Vec<rustfft::num_complex::Complex32> = xf
-            .iter()
-            .map(|z| rustfft::num_complex::Complex32::new(z.re, z.im))
-            .collect();
+        let xr: Vec<Complex32> = xf.iter().map(|z| Complex32::new(z.re, z.im)).collect();
         let plan = FftPlanner::<f32>::new().plan_fft_forward(n);
         g.bench_with_input(BenchmarkId::new("q15", n), &x, |b, x| {
             let mut buf = x.clone();
             b.iter(|| {
                 buf.copy_from_slice(x);
                 black_box(cfft_q15(black_box(&mut buf)).ok())
-            })
+            });
         });
         g.bench_with_input(BenchmarkId::new("q31", n), &x31, |b, x| {
             let mut buf = x.clone();
             b.iter(|| {
                 buf.copy_from_slice(x);
                 black_box(cfft_q31(black_box(&mut buf)).ok())
-            })
+            });
         });
         g.bench_with_input(BenchmarkId::new("microfft_f32", n), &xf, |b, x| {
             let mut buf = x.clone();
             b.iter(|| {
                 buf.copy_from_slice(x);
                 black_box(cfft_f32(black_box(&mut buf)).ok())
-            })
+            });
         });
         g.bench_with_input(BenchmarkId::new("rustfft_f32", n), &xr, |b, x| {
             let mut buf = x.clone();
             b.iter(|| {
                 buf.copy_from_slice(x);
-                plan.process(black_box(&mut buf))
-            })
+                plan.process(black_box(&mut buf));
+            });
         });
     }
     g.finish();

@@ -90,7 +90,7 @@ fn benches(c: &mut Criterion) {
     g.sample_size(10);
     g.bench_function("frame_stage", |b| {
         let mut a = vec![0u32; edge.arena_words()];
-        b.iter(|| black_box(run_frame(&mut a)))
+        b.iter(|| black_box(run_frame(&mut a)));
     });
     let scene = Scene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
     g.bench_function("sic", |b| b.iter(|| black_box(edge.cancel(&scene, &hint))));
@@ -101,7 +101,7 @@ fn benches(c: &mut Criterion) {
         b.iter(|| {
             let mut s = Scene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
             black_box(edge.search(&mut s, &hint, &reflectors, &mut scores).ok())
-        })
+        });
     });
     // The reference on the f32 sums with the same reflectors subtracted.
     let mut samples = vec![C32::new(0.0, 0.0); edge.array().elements() * N];
@@ -120,7 +120,7 @@ fn benches(c: &mut Criterion) {
     }
     let bins = edge.bins(&hint);
     g.bench_function("brute_force", |b| {
-        b.iter(|| black_box(brute_force(samples, &geo, &edge.contour(&hint), bins).ok()))
+        b.iter(|| black_box(brute_force(samples, &geo, &edge.contour(&hint), bins).ok()));
     });
     g.finish();
 }

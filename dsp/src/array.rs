@@ -15,6 +15,8 @@ pub const MAX_CHANNELS: usize = MAX_SLOTS * MAX_RX;
 
 /// Why a virtual array could not be built or used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ArrayError {
     /// The configuration has no channels or an invalid `tx_order`.
     Config,
@@ -30,6 +32,8 @@ pub enum ArrayError {
         got: usize,
     },
 }
+
+impl core::error::Error for ArrayError {}
 
 impl fmt::Display for ArrayError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -55,6 +55,8 @@ pub struct RadarConfig {
 
 /// A configuration value that the geometry cannot work with.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ConfigError {
     /// A frequency, rate or period is not a positive finite number (names the field).
     NotPositive(&'static str),
@@ -72,6 +74,8 @@ pub enum ConfigError {
         tx: u8,
     },
 }
+
+impl core::error::Error for ConfigError {}
 
 impl fmt::Display for ConfigError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

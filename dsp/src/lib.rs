@@ -5,7 +5,7 @@
 //!
 //! * [`capture`]: DCA1000 sample layouts → complex Q15 samples;
 //! * [`range`]: windowed range FFT per (chirp, RX), streaming as chirps arrive;
-//! * [`array`]: the TDM-MIMO virtual array;
+//! * [`array`](mod@array): the TDM-MIMO virtual array;
 //! * [`clutter`]: static clutter removal, the frame's strong reflectors, SIC;
 //! * [`doppler`]: Doppler FFT and the range–Doppler map;
 //! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;

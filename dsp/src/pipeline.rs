@@ -86,6 +86,8 @@ impl ObjectReport {
 
 /// Why the pipeline could not run.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum PipelineError {
     /// The radar configuration cannot be processed.
     Array(ArrayError),
@@ -103,6 +105,8 @@ pub enum PipelineError {
         rx: usize,
     },
 }
+
+impl core::error::Error for PipelineError {}
 
 impl fmt::Display for PipelineError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -28,7 +28,7 @@ proptest! {
         let mut reference = input.clone();
         FftPlanner::<f64>::new().plan_fft_forward(n).process(&mut reference);
         let k = cfft_q15(&mut buf).unwrap().scale_f64() / 32768.0;
-        let sig: f64 = reference.iter().map(|r| r.norm_sqr()).sum();
+        let sig: f64 = reference.iter().map(rustfft::num_complex::Complex::norm_sqr).sum();
         let err: f64 = reference.iter().zip(&buf).map(|(r, z)| (r - Complex64::new(z.re.0 as f64 * k, z.im.0 as f64 * k)).norm_sqr()).sum();
         // Inputs down to 1 LSB wide have little to resolve; above ~5 bits of input we need ≥ 40 dB.
         if sig > 0.0 && scale <= 10 {

@@ -217,7 +217,7 @@ fn tampered_frames_fail_the_tag_and_count() {
             g[i] ^= 1 << bit;
             let got = receive::<Uplink>(&mut rx, &g);
             assert!(
-                got.iter().all(|r| r.is_err()),
+                got.iter().all(Result::is_err),
                 "byte {i} bit {bit} accepted"
             );
             rejected += got.len();

@@ -61,7 +61,7 @@ pub fn chirp(config: &RadarConfig, chirp: usize, rx: usize, out: &mut [CQ15]) {
         let mut ph = half_turns(sin_az)
             .wrapping_mul(p)
             .wrapping_add(seed.wrapping_mul(0x9E37_79B9));
-        for a in acc.iter_mut() {
+        for a in &mut acc {
             // exp(+jθ) = conj(exp(−jθ)).
             let z = expj_neg(Phase(ph));
             a.0 += (z.re.0 as i32 * amplitude) >> 15;

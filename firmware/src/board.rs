@@ -170,7 +170,7 @@ impl StackGauge {
         let mut at = bottom;
         while at < sp {
             // SAFETY: words between the end of .bss/.uninit and the stack pointer are unused.
-            unsafe { core::ptr::write_volatile(at as *mut u32, PAINT) };
+            unsafe { write_volatile(at as *mut u32, PAINT) };
             at += 4;
         }
         Self { top, bottom }
@@ -180,7 +180,7 @@ impl StackGauge {
     pub fn high_water(&self) -> usize {
         let mut at = self.bottom;
         // SAFETY: reading words of the stack region.
-        while at < self.top && unsafe { core::ptr::read_volatile(at as *const u32) } == PAINT {
+        while at < self.top && unsafe { read_volatile(at as *const u32) } == PAINT {
             at += 4;
         }
         self.top - at

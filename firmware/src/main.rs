@@ -12,7 +12,7 @@ mod app {
     fn main() -> ! {
         hprintln!("metamoran firmware {} self-test", env!("CARGO_PKG_VERSION"));
         firmware::selftest::run(|o| {
-            hprintln!("SELFTEST {} exp={} hash={:08x}", o.name, o.exponent, o.hash)
+            hprintln!("SELFTEST {} exp={} hash={:08x}", o.name, o.exponent, o.hash);
         });
         hprintln!("SELFTEST done");
         firmware::board::exit(true)

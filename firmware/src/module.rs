@@ -319,11 +319,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         let mut objects = Vec::new();
         let mut failed = 0u32;
         for hint in &self.hints {
-            match edge.object(
-                &mut scene,
-                hint,
-                &mut s.scores.get_mut(..m).unwrap_or(&mut []),
-            ) {
+            match edge.object(&mut scene, hint, s.scores.get_mut(..m).unwrap_or(&mut [])) {
                 Ok(report) => {
                     let r = ObjectResult::from_report(hint, &report);
                     summary.detected += r.detected() as u8;
@@ -552,7 +548,7 @@ mod tests {
         let go = Downlink::Frame {
             frame: 0,
             objects: 4,
-            clutter: heapless::Vec::new(),
+            clutter: Vec::new(),
         };
         send(&mut m, &host.frame(&go));
         let up: StdVec<Uplink> = host
@@ -633,7 +629,7 @@ mod tests {
         let go = Downlink::Frame {
             frame: 0,
             objects: 0,
-            clutter: heapless::Vec::new(),
+            clutter: Vec::new(),
         };
         send(&mut m, &host.frame(&go));
         send(&mut m, &host.frame(&Downlink::Health));
@@ -654,7 +650,7 @@ mod tests {
         let go = |frame| Downlink::Frame {
             frame,
             objects: 0,
-            clutter: heapless::Vec::new(),
+            clutter: Vec::new(),
         };
         send(&mut m, &host.frame(&go(1))); // skips frame 0
         send(&mut m, &host.frame(&go(0))); // cannot go back

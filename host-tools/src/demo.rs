@@ -7,14 +7,14 @@
 //! alerts, MQTT publishes them and the live view redraws; the final operator view is printed.
 //! Everything it makes goes to one folder.
 
-use crate::bundle::OpenOptions;
-use crate::depth_image::{kitti_depth, write_ply, write_png16};
-use crate::geofence::{Alert, Geofence, Perimeter};
-use crate::geometry::CameraModel;
-use crate::live::{LiveView, OperatorState};
-use crate::process::{EdgeKind, FrameEvent, Mode, ProcessOutput, process_streamed};
-use crate::sim::{layout::Preset, radar::RadarKind};
-use clap::ValueEnum;
+use metamoran_bundle::OpenOptions;
+use metamoran_bundle::geometry::CameraModel;
+use metamoran_operator::geofence::{Alert, Geofence, Perimeter};
+use metamoran_operator::live::{LiveView, OperatorState, Track};
+use metamoran_operator::mqtt::MqttConfig;
+use metamoran_operator::outputs::{write, write_outputs};
+use metamoran_process::{FrameEvent, Mode, Module, ProcessOptions, process_streamed};
+use metamoran_sim::{layout::Preset, radar::RadarKind};
 use serde::Serialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -39,7 +39,7 @@ polygon = [[-3.0, 8.0], [3.0, 8.0], [3.0, 16.0], [-3.0, 16.0]]
 "#;
 
 /// Where the module runs.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DemoEdge {
     /// QEMU if it is installed and the firmware builds, else in this process.
     #[default]
@@ -48,23 +48,6 @@ pub enum DemoEdge {
     Qemu,
     /// The `dsp` pipeline in this process.
     InProcess,
-}
-
-/// One object as the operator sees it.
-#[derive(Clone, Debug, Serialize)]
-pub struct Track {
-    /// Instance id.
-    pub instance: u16,
-    /// Class.
-    pub class: String,
-    /// Depth, m (`None`: not detected).
-    pub depth_m: Option<f64>,
-    /// Azimuth, degrees.
-    pub azimuth_deg: Option<f64>,
-    /// Confidence, dB over the search floor.
-    pub confidence_db: Option<f64>,
-    /// Zones it is in.
-    pub zones: Vec<String>,
 }
 
 /// What the demo did and made.
@@ -145,10 +128,6 @@ impl fmt::Display for DemoReport {
     }
 }
 
-fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
-}
-
 /// The frames already published, across attempts: with `--edge auto`, when QEMU fails part
 /// way, the in-process rerun replays the scene from its first frame; subscribers must not get
 /// the frames (and their alerts) a second time. Frames arrive in order.
@@ -172,7 +151,7 @@ struct Operator<'a> {
     fence: Geofence,
     state: OperatorState,
     period_s: f64,
-    publisher: Option<&'a crate::mqtt::Publisher>,
+    publisher: Option<&'a metamoran_operator::mqtt::Publisher>,
     published: &'a Published,
     view: Option<&'a mut LiveView>,
     /// When the first frame was sent (the live view paces the frames from it).
@@ -181,7 +160,7 @@ struct Operator<'a> {
 
 impl Operator<'_> {
     /// The tracks of one frame's objects, with the zones they are in now.
-    fn tracks(&self, objects: &[crate::process::ObjectResult]) -> Vec<Track> {
+    fn tracks(&self, objects: &[metamoran_process::ObjectResult]) -> Vec<Track> {
         objects
             .iter()
             .map(|o| Track {
@@ -230,18 +209,34 @@ impl Operator<'_> {
     }
 }
 
-/// Runs the demo into `out` (created; its earlier demo files are replaced). With `live`, the
-/// operator view is drawn on this terminal as each frame arrives.
+/// How to run the demo.
+#[derive(Clone, Debug, Default)]
+pub struct DemoOptions {
+    /// Where the module runs.
+    pub edge: DemoEdge,
+    /// The firmware's Cargo workspace, for QEMU (`None`: the module runs in this process).
+    pub firmware: Option<PathBuf>,
+    /// A perimeter TOML instead of the built-in [`PERIMETER`].
+    pub perimeter: Option<PathBuf>,
+    /// Also publish to this MQTT broker.
+    pub mqtt: Option<MqttConfig>,
+    /// Draw the operator view on this terminal as each frame arrives.
+    pub live: bool,
+}
+
+/// Runs the demo into `out` (created; its earlier demo files are replaced).
 ///
 /// # Errors
 /// A message saying what failed and what to do.
-pub fn run(
-    out: &Path,
-    edge: DemoEdge,
-    perimeter: Option<&Path>,
-    mqtt: Option<&crate::mqtt::MqttConfig>,
-    live: bool,
-) -> Result<DemoReport, String> {
+pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
+    let DemoOptions {
+        edge,
+        firmware,
+        perimeter,
+        mqtt,
+        live,
+    } = options;
+    let (edge, perimeter, mqtt, live) = (*edge, perimeter.as_deref(), mqtt.as_ref(), *live);
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
     let perimeter_file = out.join("perimeter.toml");
@@ -263,21 +258,26 @@ pub fn run(
             .map_err(|e| format!("{}: cannot replace ({e})", scenes.display()))?;
     }
     let (preset, radar, seed) = SCENE;
-    let dirs = crate::sim::simulate(preset, radar, seed, 1, &scenes, false)?;
+    let dirs = metamoran_sim::simulate(preset, radar, seed, 1, &scenes, &|| ())?;
     let bundle = dirs.first().ok_or("the simulator wrote no scene")?;
     let opts = OpenOptions::default();
     // The bundle the module will process: its frame period and camera.
-    let scene = crate::bundle::Bundle::open(bundle, opts.clone())
+    let scene = metamoran_bundle::Bundle::open(bundle, opts.clone())
         .map_err(|e| e.to_string())?
         .scene;
     let period = scene.radar.frame_period_s;
 
-    let publisher = mqtt.map(crate::mqtt::Publisher::connect).transpose()?;
+    let publisher = mqtt
+        .map(metamoran_operator::mqtt::Publisher::connect)
+        .transpose()?;
     let published = Published::default();
     let mut view = if live { Some(LiveView::start()?) } else { None };
-    let key = dsp::wire::Key::new(&dsp::wire::DEV_KEY);
+    let qemu = firmware.as_ref().map(|firmware| Module::Qemu {
+        firmware: firmware.clone(),
+        key: dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+    });
     let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)";
-    let mut run_on = |kind, words: &str| {
+    let mut run_on = |module: Module, words: &str| {
         let mut op = Operator {
             fence: Geofence::new(perimeter.clone()),
             state: OperatorState {
@@ -295,29 +295,40 @@ pub fn run(
             view: view.as_mut(),
             started: std::time::Instant::now(),
         };
-        let r = process_streamed(
-            bundle,
-            Mode::Metamoran,
-            opts.clone(),
-            kind,
-            key.clone(),
-            |e| op.frame(e),
-        )?;
+        let options = ProcessOptions {
+            mode: Mode::Metamoran,
+            open: opts.clone(),
+            module,
+        };
+        let r = process_streamed(bundle, &options, |e| op.frame(e))?;
         Ok::<_, String>((r, op.state))
     };
-    let ((output, log), state) = match edge {
-        DemoEdge::InProcess => run_on(EdgeKind::InProcess, "in this process (--edge in-process)")?,
-        DemoEdge::Qemu => run_on(EdgeKind::Qemu, qemu_words)?,
-        DemoEdge::Auto if crate::qemu::available() => match run_on(EdgeKind::Qemu, qemu_words) {
-            Ok(r) => r,
-            Err(e) => run_on(
-                EdgeKind::InProcess,
-                &format!("in this process: QEMU could not run the firmware ({e})"),
-            )?,
-        },
-        DemoEdge::Auto => run_on(
-            EdgeKind::InProcess,
+    let ((output, log), state) = match (edge, qemu) {
+        (DemoEdge::InProcess, _) => {
+            run_on(Module::InProcess, "in this process (--edge in-process)")?
+        }
+        (DemoEdge::Qemu, Some(q)) => run_on(q, qemu_words)?,
+        (DemoEdge::Qemu, None) => {
+            return Err(
+                "--edge qemu: the firmware sources were not found; give --firmware DIR".into(),
+            );
+        }
+        (DemoEdge::Auto, Some(q)) if metamoran_edge::qemu::available() => {
+            match run_on(q, qemu_words) {
+                Ok(r) => r,
+                Err(e) => run_on(
+                    Module::InProcess,
+                    &format!("in this process: QEMU could not run the firmware ({e})"),
+                )?,
+            }
+        }
+        (DemoEdge::Auto, Some(_)) => run_on(
+            Module::InProcess,
             "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)",
+        )?,
+        (DemoEdge::Auto, None) => run_on(
+            Module::InProcess,
+            "in this process: no firmware sources to build (run from a checkout or give --firmware DIR)",
         )?,
     };
     drop(view);
@@ -388,39 +399,6 @@ pub fn run(
     report.files.push("operator.txt".into());
     write(&out.join("operator.txt"), report.to_string().as_bytes())?;
     Ok(report)
-}
-
-/// `results.json` (cli.md's shape), per frame `depth_F.png` (KITTI, through `camera`) and
-/// `points_F.ply`, and `recording.mcap` with the frames (every `period_s`) and `alerts`.
-///
-/// # Errors
-/// A message naming the file that could not be written.
-pub fn write_outputs(
-    out: &Path,
-    camera: &CameraModel,
-    output: &ProcessOutput,
-    period_s: f64,
-    alerts: &[crate::geofence::Alert],
-) -> Result<Vec<String>, String> {
-    let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
-    write(&out.join("results.json"), &json)?;
-    let mut files = vec!["results.json".to_owned()];
-    for f in &output.frames {
-        let img = kitti_depth(camera, f);
-        let png = format!("depth_{}.png", f.frame);
-        write_png16(&out.join(&png), camera.width, camera.height, &img)?;
-        let ply = format!("points_{}.ply", f.frame);
-        write_ply(&out.join(&ply), f)?;
-        files.extend([png, ply]);
-    }
-    crate::record::record(
-        &out.join("recording.mcap"),
-        &output.frames,
-        period_s,
-        alerts,
-    )?;
-    files.push("recording.mcap".into());
-    Ok(files)
 }
 
 #[cfg(test)]

@@ -1,37 +1,23 @@
-//! Host side of the Metamoran runtime: scene-bundle and capture readers, per-frame processing
-//! with the module's `dsp` code, summaries and benchmarks. The `metamoran` binary is a thin CLI
-//! over this library.
+//! The library half of the `metamoran` command-line tool: the [`demo`] that runs the whole
+//! system on a built-in scene and the [benchmarks](mod@bench). They sit on top of every other host
+//! crate; the binary (`main.rs` and its `commands`) is a thin CLI over them and the crates
+//! below:
+//!
+//! ```text
+//! metamoran-bundle → metamoran-sim
+//!        ↓                 ↓
+//! metamoran-edge → metamoran-process → metamoran-map, metamoran-operator → metamoran
+//! ```
 
 pub mod bench;
-pub mod bundle;
-pub mod capture;
 pub mod demo;
-pub mod depth_image;
-pub mod edge;
-pub mod error;
-pub mod eval;
-pub mod fields;
-pub mod frame;
-pub mod geofence;
-pub mod geometry;
-pub mod inspect;
-pub mod live;
-pub mod map;
-pub mod mqtt;
-pub mod oracle;
-pub mod process;
-pub mod progress;
-pub mod qemu;
-pub mod record;
-pub mod sim;
-pub mod summary;
 
-/// Where the shared data folder (`shared/`, beside the repository) is: `$METAMORAN_SHARED` or
-/// `../shared` from the workspace root.
-pub fn shared_dir() -> std::path::PathBuf {
-    std::env::var_os("METAMORAN_SHARED")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| {
-            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared")
-        })
+/// The shared data folder (real captures) of the checkout this runs in: the first `shared/`
+/// holding `data/` beside the current folder or one of its parents. `None` outside a checkout
+/// (the binary then takes `--shared DIR` or `METAMORAN_SHARED`).
+pub fn find_shared() -> Option<std::path::PathBuf> {
+    let cwd = std::env::current_dir().ok()?;
+    cwd.ancestors()
+        .map(|a| a.join("shared"))
+        .find(|s| s.join("data").is_dir())
 }

@@ -14,11 +14,17 @@ fn metamoran(args: &[&str]) -> Output {
 fn real(name: &str) -> (PathBuf, PathBuf) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
     (
-        host_tools::shared_dir()
+        std::env::var_os("METAMORAN_SHARED")
+            .map_or_else(|| root.join("../shared"), PathBuf::from)
             .join("data/real")
             .join(name)
             .join("adc_data.bin"),
-        root.join("tests/data/real").join(format!("{name}.toml")),
+        // The binary's own config of its demo capture, else the tests' configs.
+        [root.join("host-tools/data"), root.join("tests/data/real")]
+            .map(|d| d.join(format!("{name}.toml")))
+            .into_iter()
+            .find(|p| p.exists())
+            .expect("a radar config for the capture"),
     )
 }
 
@@ -199,7 +205,7 @@ fn map_json_has_the_issue_keys_and_writes_images_and_clouds() {
         );
     }
     for name in clouds {
-        let points = host_tools::map::lidar::read(&out.join(name)).unwrap();
+        let points = metamoran_bundle::lidar::read(&out.join(name)).unwrap();
         assert!(points.len() > 100, "{name}: {} points", points.len());
     }
     // A missing bundle is an error naming it, not a panic.

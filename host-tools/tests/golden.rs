@@ -23,7 +23,9 @@ fn volatile(dir: &Path) -> BTreeMap<String, Vec<String>> {
             continue;
         }
         let (file, key) = line.split_once('\t').expect("volatile.txt: FILE<TAB>KEY");
-        keys.entry(file.to_owned()).or_default().push(key.to_owned());
+        keys.entry(file.to_owned())
+            .or_default()
+            .push(key.to_owned());
     }
     keys
 }

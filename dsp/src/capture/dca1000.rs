@@ -19,6 +19,8 @@ pub enum IqOrder {
 
 /// Why raw bytes could not be turned into samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum CaptureError {
     /// The output holds an odd number of samples; groups carry two samples each.
     OddSampleCount(usize),
@@ -30,6 +32,8 @@ pub enum CaptureError {
         got: usize,
     },
 }
+
+impl core::error::Error for CaptureError {}
 
 impl fmt::Display for CaptureError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

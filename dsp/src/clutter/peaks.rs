@@ -33,12 +33,16 @@ impl Peak {
 
 /// Why the scan could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ScanError {
     /// The azimuth FFT length is unsupported or shorter than the array span.
     AzimuthLen(usize),
     /// The power rows hold fewer than `3·Nₐ` values.
     Rows(usize),
 }
+
+impl core::error::Error for ScanError {}
 
 impl core::fmt::Display for ScanError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -260,7 +264,7 @@ mod tests {
             }
         }
         assert!(all.len() > 2 * MAX_PEAKS, "{} maxima", all.len());
-        all.sort_by(|a, b| b.power.cmp(&a.power));
+        all.sort_by_key(|p| core::cmp::Reverse(p.power));
         all.truncate(MAX_PEAKS);
         let mut fft = [CQ15::default(); 16];
         let mut rows = [0u64; 48];

@@ -60,6 +60,8 @@ pub struct Detection {
 
 /// Why a CFAR could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum CfarError {
     /// The window holds more training cells than OS-CFAR can sort.
     TooManyTrainingCells(usize),
@@ -71,6 +73,8 @@ pub enum CfarError {
         got: usize,
     },
 }
+
+impl core::error::Error for CfarError {}
 
 impl fmt::Display for CfarError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -155,7 +159,7 @@ impl Cfar {
     /// O(N · train) for CA, O(N · train) expected for OS (quickselect).
     ///
     /// # Errors
-    /// [`CfarError::TooManyTrainingCells`] if OS-CFAR's window exceeds [`MAX_OS_CELLS`].
+    /// [`CfarError::TooManyTrainingCells`] if OS-CFAR's window exceeds `MAX_OS_CELLS`.
     pub fn detect(&self, x: &[f32], mut emit: impl FnMut(Detection)) -> Result<usize, CfarError> {
         let mut est = Estimator::new(self.kind);
         let mut found = 0;

@@ -3,6 +3,8 @@
 /// Offset in bins (−0.5..=0.5) of the vertex of the parabola through `(−1, left)`,
 /// `(0, centre)`, `(1, right)`; 0 when the three points are not a peak. For a windowed FFT peak,
 /// pass magnitudes in dB for the smallest bias.
+// The negated comparisons are deliberate: a NaN anywhere fails them and gives 0.
+#[allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 pub fn quadratic_offset(left: f32, centre: f32, right: f32) -> f32 {
     let denom = left - 2.0 * centre + right;
     if !(denom < 0.0) || !(centre >= left && centre >= right) {

@@ -18,6 +18,8 @@ pub struct DopplerOptions<'w> {
 
 /// Why Doppler processing could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum DopplerError {
     /// The cube could not be read.
     Range(RangeError),
@@ -55,6 +57,8 @@ impl From<FftError> for DopplerError {
         Self::Range(RangeError::Fft(e))
     }
 }
+
+impl core::error::Error for DopplerError {}
 
 impl fmt::Display for DopplerError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -86,6 +86,8 @@ impl EgoVelocity {
 
 /// Why there is no estimate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum EgoError {
     /// Fewer detections than [`Ransac::min_inliers`] agree on any velocity.
     TooFewInliers {
@@ -97,6 +99,8 @@ pub enum EgoError {
     /// `inliers` (the mask) is shorter than the detections.
     MaskTooShort,
 }
+
+impl core::error::Error for EgoError {}
 
 impl core::fmt::Display for EgoError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
@@ -124,7 +128,7 @@ impl XorShift {
         x ^= x >> 17;
         x ^= x << 5;
         self.0 = x;
-        (x as u64 * n as u64 >> 32) as usize
+        ((x as u64 * n as u64) >> 32) as usize
     }
 }
 
@@ -143,6 +147,8 @@ fn least_squares(dets: &[Detection], keep: impl Fn(usize) -> bool) -> Option<[f3
     }
     // Relative to the scale of the sums: parallel lines of sight make the determinant vanish.
     let scale = ata[(0, 0)] * ata[(1, 1)];
+    // Negated on purpose: a NaN determinant is rejected too.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     if !(ata.determinant() > 1e-6 * scale.max(f32::MIN_POSITIVE)) {
         return None;
     }

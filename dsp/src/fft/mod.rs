@@ -42,10 +42,14 @@ impl Exponent {
 
 /// Why an FFT could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum FftError {
     /// The buffer length is not a power of two in `16..=2048`.
     UnsupportedLength(usize),
 }
+
+impl core::error::Error for FftError {}
 
 impl fmt::Display for FftError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -13,6 +13,9 @@
 //! provably fits in `i16` and every product in `i32`, so nothing saturates or wraps, and a weak
 //! input is not scaled until its spectrum needs the room.
 
+// Packed-word loads and stores of the SIMD passes (each `unsafe` block says why it is sound).
+#![allow(unsafe_code)]
+
 use super::reorder::bit_reverse;
 use super::simd::{add, add_j, rotate, shadd16, sub, sub_j};
 use super::twiddle::{TABLE_LEN, TWIDDLE_Q15};
@@ -71,9 +74,9 @@ pub fn fft_bit_reversed(buf: &mut [CQ15]) -> u32 {
         let halve = bound_bits(acc) > 14;
         exponent += u32::from(halve);
         if halve {
-            radix2_pass::<true>(words)
+            radix2_pass::<true>(words);
         } else {
-            radix2_pass::<false>(words)
+            radix2_pass::<false>(words);
         }
     }
     exponent

@@ -5,6 +5,9 @@
 //! The names are the instructions'. Lanes of the non-saturating ops wrap; callers prove they
 //! cannot overflow.
 
+// The DSP extension's instructions are inline `asm!` (each wrapper says why it is sound).
+#![allow(unsafe_code)]
+
 #[cfg(arm_dsp)]
 mod imp {
     use core::arch::asm;

@@ -98,8 +98,8 @@ mod tests {
 
     #[test]
     fn layout_matches_interleaved_buffers() {
-        assert_eq!(core::mem::size_of::<Complex<Q15>>(), 4);
-        assert_eq!(core::mem::size_of::<Complex<Q31>>(), 8);
+        assert_eq!(size_of::<Complex<Q15>>(), 4);
+        assert_eq!(size_of::<Complex<Q31>>(), 8);
     }
 
     #[test]

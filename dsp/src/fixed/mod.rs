@@ -5,6 +5,9 @@
 //! wrapping, so an overload clips like the ADC does rather than folding into a false target.
 //! [`Complex`] pairs two of them with the memory layout of the DCA1000 and CMSIS (`re`, `im`).
 
+// `words`/`words_mut` view `CQ15` buffers as packed `u32` words (same size and alignment).
+#![allow(unsafe_code)]
+
 mod complex;
 mod q15;
 mod q31;

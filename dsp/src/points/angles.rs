@@ -65,11 +65,11 @@ pub fn cell_directions(
     let n = geom.channels().min(values.len());
     let mut row = [Complex32::new(0.0, 0.0); AZIMUTH_FFT];
     let mut count = [0u8; AZIMUTH_FFT];
-    for ch in 0..n {
+    for (ch, v) in values.iter().enumerate().take(n) {
         if geom.elevation(ch) == 0 {
             let p = geom.azimuth(ch);
-            row[p].re += values[ch].re;
-            row[p].im += values[ch].im;
+            row[p].re += v.re;
+            row[p].im += v.im;
             count[p] = count[p].saturating_add(1);
         }
     }

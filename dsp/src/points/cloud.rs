@@ -77,6 +77,8 @@ impl RadarPoint {
 
 /// Why a frame's points could not be formed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum PointsError {
     /// The detector could not run.
     Cfar(CfarError),
@@ -85,6 +87,8 @@ pub enum PointsError {
     /// A buffer has the wrong size (names which).
     Buffer(&'static str),
 }
+
+impl core::error::Error for PointsError {}
 
 impl fmt::Display for PointsError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

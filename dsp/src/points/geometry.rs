@@ -14,6 +14,8 @@ pub const AZIMUTH_FFT: usize = 64;
 
 /// Why an array cannot give a point cloud.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum GeometryError {
     /// More channels than [`MAX_CHANNELS`].
     TooManyChannels(usize),
@@ -29,6 +31,8 @@ pub enum GeometryError {
     /// No channel at elevation 0.
     NoBaseRow,
 }
+
+impl core::error::Error for GeometryError {}
 
 impl fmt::Display for GeometryError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -114,8 +118,8 @@ impl ArrayGeometry {
             elevation,
             channels,
         };
-        for ch in 0..channels {
-            out.azimuth[ch] = (azimuth[ch] - lo) as u8;
+        for (dst, &a) in out.azimuth.iter_mut().zip(&azimuth[..channels]) {
+            *dst = (a - lo) as u8;
         }
         Ok(out)
     }

@@ -129,7 +129,7 @@ impl<'a> FrameSum<'a> {
     }
 
     /// Adds one chirp of one channel into its element's sums (saturating). O(N): on the M7 the
-    /// first [`EXACT_ROWS`] chirps of a frame take five instructions per sample
+    /// first `EXACT_ROWS` chirps of a frame take five instructions per sample
     /// (`fft::simd::widen_add`), since no sum can overflow yet; later ones saturate.
     ///
     /// # Errors
@@ -475,7 +475,7 @@ mod tests {
         let mut truth = vec![(0.0f64, 0.0f64); el * n];
         for lp in 0..3 {
             for e in 0..el {
-                let chirp: std::vec::Vec<CQ15> = (0..n)
+                let chirp: vec::Vec<CQ15> = (0..n)
                     .map(|i| {
                         let ph = 0.7 * i as f64 + e as f64 + lp as f64 * 0.1;
                         let a = 3000.0 * (e + 1) as f64;
@@ -489,7 +489,7 @@ mod tests {
                 sum.add(e, &chirp).unwrap();
             }
         }
-        let window: std::vec::Vec<Q15> = (0..n)
+        let window: vec::Vec<Q15> = (0..n)
             .map(|i| coefficient(WindowKind::Hann, i, n))
             .collect();
         let mut scratch = vec![CQ15::default(); m];

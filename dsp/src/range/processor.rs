@@ -7,6 +7,8 @@ use core::fmt;
 
 /// Why range processing could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum RangeError {
     /// The FFT length is unsupported.
     Fft(FftError),
@@ -42,6 +44,8 @@ impl From<FftError> for RangeError {
         Self::Fft(e)
     }
 }
+
+impl core::error::Error for RangeError {}
 
 impl fmt::Display for RangeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -72,7 +72,7 @@ impl<'a> StaticSum<'a> {
         }
         for row in self.samples.chunks_exact_mut(self.n) {
             for (x, &w) in row.iter_mut().zip(window) {
-                *x = *x * w;
+                *x *= w;
             }
         }
         Ok(self.samples)

@@ -60,7 +60,7 @@ impl Contour {
     pub fn snapped(&self, step: f32) -> Self {
         let mut c = self.clone();
         if step > 0.0 {
-            for p in c.points.iter_mut() {
+            for p in &mut c.points {
                 p.sin_az = (libm::roundf(p.sin_az / step) * step).clamp(-1.0, 1.0);
             }
         }

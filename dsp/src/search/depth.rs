@@ -73,6 +73,8 @@ pub struct SearchResult {
 
 /// Why a search could not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum SearchError {
     /// The contour has no points.
     EmptyContour,
@@ -88,6 +90,8 @@ pub enum SearchError {
         got: usize,
     },
 }
+
+impl core::error::Error for SearchError {}
 
 impl fmt::Display for SearchError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -369,6 +373,7 @@ pub fn coarse_to_fine(
     };
     // SAFETY: `C32` is `repr(C)` of two `f32` (8 bytes, 4-aligned, like two `u32` words) and
     // every bit pattern is a valid `f32`; the cast slice covers exactly `words`.
+    #[allow(unsafe_code)] // the word arena viewed as beams: see the SAFETY note
     let beams = unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast::<C32>(), need) };
     let mut prof = Profiles { beams, rows };
     let mut macs = 0u64;

@@ -27,10 +27,14 @@ pub struct Key {
 
 /// Why a key could not be read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum KeyError {
     /// The text is not [`KEY_LEN`] bytes of hexadecimal.
     Hex,
 }
+
+impl core::error::Error for KeyError {}
 
 impl fmt::Display for KeyError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -37,6 +37,8 @@ pub enum Stream {
 
 /// Why a message could not be framed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum EncodeError {
     /// The message does not fit [`MAX_PAYLOAD`] bytes.
     TooLarge,
@@ -45,6 +47,8 @@ pub enum EncodeError {
     /// The counter reached `u32::MAX`: re-key the link.
     CounterExhausted,
 }
+
+impl core::error::Error for EncodeError {}
 
 impl fmt::Display for EncodeError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

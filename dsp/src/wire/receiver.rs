@@ -20,6 +20,8 @@ pub const WINDOW: u32 = 64;
 
 /// Why a frame was rejected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum LinkError {
     /// Not valid COBS, or shorter than a header and a tag.
     Malformed,
@@ -36,6 +38,8 @@ pub enum LinkError {
     /// Authentic frame whose payload is not a valid message (a sender bug).
     Payload,
 }
+
+impl core::error::Error for LinkError {}
 
 impl fmt::Display for LinkError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -181,7 +185,7 @@ impl Receiver {
         }
         let n = cobs_decode_in_place(frame).ok_or(LinkError::Malformed)?;
         let raw = frame.get(..n).ok_or(LinkError::Malformed)?;
-        if n < HEADER_LEN + TAG_LEN || n > MAX_RAW {
+        if !(HEADER_LEN + TAG_LEN..=MAX_RAW).contains(&n) {
             return Err(LinkError::Malformed);
         }
         let (body, tag) = raw.split_at(n - TAG_LEN);

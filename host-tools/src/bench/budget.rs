@@ -8,9 +8,10 @@
 //!   cascade-86, 512-sample, 4-object budget frame (goal 24 M: half of a 100 ms frame at 480 MHz);
 //! * telemetry: wire bytes of the uplink frames a frame produces, per object and per frame.
 
-use crate::qemu;
 use dsp::wire::{DEV_KEY, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink};
+use metamoran_edge::qemu;
 use serde::Serialize;
+use std::path::Path;
 use std::process::Command;
 use std::time::Duration;
 
@@ -52,7 +53,7 @@ fn field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
 }
 
 /// Sizes of `elf`'s sections from `size -A`.
-fn sections(elf: &std::path::Path) -> Result<Vec<(String, u64)>, String> {
+fn sections(elf: &Path) -> Result<Vec<(String, u64)>, String> {
     let out = Command::new("size")
         .arg("-A")
         .arg(elf)
@@ -79,8 +80,8 @@ fn sections(elf: &std::path::Path) -> Result<Vec<(String, u64)>, String> {
 ///
 /// # Errors
 /// A message if a build, QEMU or `size` fails or prints something unexpected.
-pub fn run() -> Result<Budget, String> {
-    let edge = qemu::build("edge")?;
+pub fn run(firmware: &Path) -> Result<Budget, String> {
+    let edge = qemu::build(firmware, "edge")?;
     let secs = sections(&edge)?;
     let sum = |names: &[&str]| -> u64 {
         secs.iter()
@@ -91,7 +92,7 @@ pub fn run() -> Result<Budget, String> {
     let flash_bytes = sum(&[".vector_table", ".text", ".rodata", ".data"]);
     let ram_bytes = sum(&[".data", ".bss", ".uninit"]);
 
-    let elf = qemu::build("pipeline-icount")?;
+    let elf = qemu::build(firmware, "pipeline-icount")?;
     let out = qemu::run(&elf, true, Duration::from_secs(300))?;
     let mut stages = Vec::new();
     let (mut total, mut stack) = (None, 0u64);
@@ -124,7 +125,7 @@ pub fn run() -> Result<Budget, String> {
         }
     }
     let instructions_per_frame = total.ok_or(format!("no frame total in:\n{out}"))?;
-    stack = stack.max(edge_stack()?);
+    stack = stack.max(edge_stack(firmware)?);
 
     // The uplink of the budget frame: one Results message, measured with 4 objects and with
     // none, so the per-object figure is each object's own share of the wire.
@@ -162,25 +163,33 @@ pub fn run() -> Result<Budget, String> {
 }
 
 /// Stack high-water mark of the `edge` firmware over a session on a simulated cascade bundle.
-fn edge_stack() -> Result<u64, String> {
-    use crate::process::{EdgeKind, Mode, process_logged};
-    use crate::sim::{layout::Preset, radar::RadarKind, simulate};
+fn edge_stack(firmware: &Path) -> Result<u64, String> {
+    use metamoran_process::{Mode, Module, ProcessOptions, process_streamed};
+    use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
     let dir = std::env::temp_dir().join(format!("metamoran-budget-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    simulate(Preset::ParkingLot, RadarKind::Cascade, 4242, 1, &dir, false)?;
+    simulate(
+        Preset::ParkingLot,
+        RadarKind::Cascade,
+        4242,
+        1,
+        &dir,
+        &|| (),
+    )?;
     let bundle = std::fs::read_dir(&dir)
         .map_err(|e| e.to_string())?
         .filter_map(Result::ok)
         .map(|e| e.path())
         .find(|p| p.is_dir())
         .ok_or("the simulator wrote no bundle")?;
-    let (_, log) = process_logged(
-        &bundle,
-        Mode::Metamoran,
-        Default::default(),
-        EdgeKind::Qemu,
-        Key::new(&DEV_KEY),
-    )?;
+    let options = ProcessOptions {
+        module: Module::Qemu {
+            firmware: firmware.to_owned(),
+            key: Key::new(&DEV_KEY),
+        },
+        ..ProcessOptions::mode(Mode::Metamoran)
+    };
+    let (_, log) = process_streamed(&bundle, &options, |_| Ok(()))?;
     let _ = std::fs::remove_dir_all(&dir);
     let stack = log
         .map(|l| u64::from(l.health.stack_bytes))

@@ -3,7 +3,7 @@
 //! Accuracy is SQNR against a double-precision rustfft of the same quantized input (complex
 //! uniform noise, each part uniform in ±10^(dBFS/20) of full scale), at −12 and −40 dBFS.
 
-use crate::oracle::{CmsisFormat, CmsisRequest, cmsis_fft};
+use super::cmsis::{CmsisFormat, CmsisRequest, cmsis_fft};
 use dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
 use dsp::fixed::{CQ15, CQ31, Complex, Q31};
 use rustfft::FftPlanner;
@@ -125,7 +125,10 @@ fn reference(x: &[Complex64]) -> Vec<Complex64> {
 
 /// SQNR of `ours` against `reference`, dB.
 pub fn sqnr_db(reference: &[Complex64], ours: &[Complex64]) -> f64 {
-    let s: f64 = reference.iter().map(|r| r.norm_sqr()).sum();
+    let s: f64 = reference
+        .iter()
+        .map(rustfft::num_complex::Complex::norm_sqr)
+        .sum();
     let e: f64 = reference
         .iter()
         .zip(ours)
@@ -142,14 +145,18 @@ fn transform(implementation: &str, input: &Input) -> Vec<Complex64> {
     match implementation {
         "q15" => {
             let mut b = input.q15.clone();
-            let s = cfft_q15(&mut b).map(|e| e.scale_f64()).unwrap_or(f64::NAN);
+            let s = cfft_q15(&mut b)
+                .map(dsp::fft::Exponent::scale_f64)
+                .unwrap_or(f64::NAN);
             b.iter()
                 .map(|z| Complex64::new(z.re.to_f32() as f64 * s, z.im.to_f32() as f64 * s))
                 .collect()
         }
         "q31" => {
             let mut b = input.q31.clone();
-            let s = cfft_q31(&mut b).map(|e| e.scale_f64()).unwrap_or(f64::NAN);
+            let s = cfft_q31(&mut b)
+                .map(dsp::fft::Exponent::scale_f64)
+                .unwrap_or(f64::NAN);
             b.iter()
                 .map(|z| Complex64::new(z.re.to_f64() * s, z.im.to_f64() * s))
                 .collect()
@@ -323,7 +330,7 @@ fn machine() -> String {
                 .map(|s| s.trim().to_owned())
         })
         .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let cores = std::thread::available_parallelism().map_or(0, std::num::NonZero::get);
     format!(
         "{cpu}, {cores} cores, {} {}",
         std::env::consts::OS,

@@ -5,7 +5,7 @@
 //! i.e. one tick per 40 instructions. The firmware reads the timer around each FFT call and
 //! subtracts an empty measurement. Counts are deterministic (±40 instructions of quantization).
 
-use crate::qemu;
+use metamoran_edge::qemu;
 use serde::Serialize;
 use std::time::Duration;
 
@@ -44,8 +44,8 @@ pub struct M7Report {
 ///
 /// # Errors
 /// A message if the build or QEMU fails or the output cannot be parsed.
-pub fn run() -> Result<M7Report, String> {
-    let elf = qemu::build("fft-icount")?;
+pub fn run(firmware: &std::path::Path) -> Result<M7Report, String> {
+    let elf = qemu::build(firmware, "fft-icount")?;
     let out = qemu::run(&elf, true, Duration::from_secs(120))?;
     let mut fft = Vec::new();
     for line in out.lines().filter(|l| l.starts_with("ICOUNT impl=")) {

@@ -1,6 +1,7 @@
 //! Benchmarks reported by `metamoran bench`: figures measured in one run against named baselines.
 
 pub mod budget;
+pub mod cmsis;
 pub mod fft;
 pub mod m7;
 pub mod network;

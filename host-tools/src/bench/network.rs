@@ -2,8 +2,8 @@
 //! (the paper's conventional completion) on the same drive submaps, measured in one run, and the
 //! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal.
 
-use crate::map::{depth, network::Network, odometry};
-use crate::sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
+use metamoran_map::{depth, network::Network, odometry};
+use metamoran_sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -54,7 +54,7 @@ pub fn run() -> Result<NetworkReport, String> {
         77,
         SCENES,
         dir.path(),
-        false,
+        &|| (),
     )?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
     for b in &bundles {
@@ -67,7 +67,7 @@ pub fn run() -> Result<NetworkReport, String> {
         let last = &submaps[n - 1].range_m;
         network_ms += per_run(|| network.complete(last).map(drop))?;
         ip_basic_ms += per_run(|| {
-            crate::map::ip_basic::complete(last);
+            metamoran_map::ip_basic::complete(last);
             Ok(())
         })?;
     }

@@ -72,7 +72,7 @@ impl Network {
             path: path.to_owned(),
             reason: format!("{e:#}"),
         };
-        let model = tract_onnx::onnx().model_for_path(path).map_err(load)?;
+        let model = onnx().model_for_path(path).map_err(load)?;
         let contract = |what: String| VisionError::Contract {
             path: path.to_owned(),
             what,
@@ -129,8 +129,8 @@ impl Network {
             .model
             .clone()
             .with_input_fact(0, f32::fact([1, 3, height, width]).into())
-            .and_then(|m| m.into_optimized())
-            .and_then(|m| m.into_runnable())
+            .and_then(InferenceModelExt::into_optimized)
+            .and_then(IntoRunnable::into_runnable)
             .map_err(|e| self.run_error(format!("{e:#}")))?;
         plans.insert((width, height), plan.clone());
         Ok(plan)

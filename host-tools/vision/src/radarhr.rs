@@ -63,9 +63,7 @@ impl RadarHr {
             path: source.to_owned(),
             what,
         };
-        let model = tract_onnx::onnx()
-            .model_for_read(&mut &bytes[..])
-            .map_err(load)?;
+        let model = onnx().model_for_read(&mut &bytes[..]).map_err(load)?;
         let dims = input_dims(&model).map_err(load)?;
         let (height, width) = match dims[..] {
             [Some(1), Some(1), Some(h), Some(w)] if model.inputs.len() == 1 => (h, w),
@@ -91,7 +89,7 @@ impl RadarHr {
         }
         let plan = model
             .into_optimized()
-            .and_then(|m| m.into_runnable())
+            .and_then(IntoRunnable::into_runnable)
             .map_err(load)?;
         Ok(Self {
             source: source.to_owned(),

@@ -1,0 +1,336 @@
+//! The module under QEMU as the host's edge: `process --edge qemu` builds the `edge` firmware,
+//! starts `qemu-system-arm` with UART0 on a loopback TCP socket and the bundle's `radar.bin` as
+//! the capture file, and speaks the telemetry protocol (`dsp::wire`) to it: configuration, then
+//! per frame the hints and a `Frame` message, then the per-object results until the frame's
+//! summary.
+
+use crate::qemu;
+use dsp::config::RadarConfig;
+use dsp::wire::{
+    Deframer, Downlink, Fault, Health, Hint, Key, LinkError, MAX_WIRE, ObjectResult, Receiver,
+    Sender, Stream, Uplink,
+};
+use std::io::{Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// How long the module may take to answer one message.
+const ANSWER_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// A running module under QEMU.
+pub struct QemuEdge {
+    child: Child,
+    stream: TcpStream,
+    sender: Sender,
+    receiver: Receiver,
+    deframer: Deframer,
+    link: PathBuf,
+    /// The firmware ELF (its defmt strings decode the log).
+    elf: PathBuf,
+    /// Faults the module reported, with their frame.
+    pub faults: Vec<(u32, Fault)>,
+}
+
+/// What the module said when it stopped.
+#[derive(Clone, Debug)]
+pub struct EdgeLog {
+    /// Its health counters.
+    pub health: Health,
+    /// Its semihosting console: defmt frames (decode with
+    /// `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge`).
+    pub defmt: Vec<u8>,
+    /// The firmware ELF that wrote it (defmt-print needs it to decode the log).
+    pub elf: PathBuf,
+}
+
+/// The module's defmt log as text through `defmt-print -e ELF` (the tool `cargo install
+/// defmt-print` provides), or a note saying how to read it when the tool is missing.
+pub fn decode_defmt(elf: &Path, log: &[u8]) -> String {
+    if log.is_empty() {
+        return String::new();
+    }
+    let tool = ["defmt-print".into(), cargo_bin("defmt-print")];
+    for t in &tool {
+        let child = Command::new(t)
+            .args(["-e"])
+            .arg(elf)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn();
+        let Ok(mut child) = child else { continue };
+        if let Some(mut i) = child.stdin.take() {
+            let _ = i.write_all(log);
+        }
+        if let Ok(out) = child.wait_with_output() {
+            return String::from_utf8_lossy(&out.stdout).into_owned();
+        }
+    }
+    format!(
+        "({} bytes of defmt log: `cargo install defmt-print` to read them)",
+        log.len()
+    )
+}
+
+/// `~/.cargo/bin/NAME`.
+fn cargo_bin(name: &str) -> PathBuf {
+    let home = std::env::var_os("CARGO_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cargo")))
+        .unwrap_or_default();
+    home.join("bin").join(name)
+}
+
+impl QemuEdge {
+    /// Builds the firmware in workspace `firmware` and starts it on `capture` (a bundle's
+    /// `radar.bin`, read by the module as the radar board's stream), under link key `key`.
+    ///
+    /// # Errors
+    /// A message if the build, QEMU or the first message fails.
+    pub fn start(capture: &Path, key: Key, firmware: &Path) -> Result<Self, String> {
+        let capture = capture
+            .canonicalize()
+            .map_err(|e| format!("{}: {e}", capture.display()))?;
+        let elf = qemu::build(firmware, "edge")?;
+        // QEMU's option syntax and the semihosting command line split on commas and spaces:
+        // hand the module a plain path.
+        let port = TcpListener::bind("127.0.0.1:0")
+            .and_then(|l| l.local_addr())
+            .map_err(|e| format!("no free loopback port: {e}"))?
+            .port();
+        let link =
+            std::env::temp_dir().join(format!("metamoran-edge-{}-{port}.bin", std::process::id()));
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&capture, &link)
+            .map_err(|e| format!("{}: {e}", link.display()))?;
+        let child = Command::new("qemu-system-arm")
+            .args(["-machine", "mps2-an500", "-cpu", "cortex-m7", "-nographic"])
+            .args(["-monitor", "none"])
+            .arg("-serial")
+            .arg(format!("tcp:127.0.0.1:{port},server=on,wait=on"))
+            .arg("-semihosting-config")
+            .arg(format!(
+                "enable=on,target=native,arg=edge,arg={}",
+                link.display()
+            ))
+            .arg("-kernel")
+            .arg(&elf)
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| {
+                format!("cannot start qemu-system-arm ({e}): apt-get install -y qemu-system-arm")
+            })?;
+        let key2 = key.clone();
+        let mut edge = Self {
+            child,
+            stream: connect(port)?,
+            sender: Sender::new(key, Stream::Downlink),
+            receiver: Receiver::new(key2, Stream::Uplink),
+            deframer: Deframer::new(),
+            link,
+            elf: elf.clone(),
+            faults: Vec::new(),
+        };
+        match edge.receive()? {
+            Uplink::Hello { .. } => Ok(edge),
+            other => Err(format!("the module did not say hello first: {other:?}")),
+        }
+    }
+
+    /// Sends the radar configuration.
+    ///
+    /// # Errors
+    /// A message if the link fails or the module rejects it.
+    pub fn configure(&mut self, config: &RadarConfig) -> Result<(), String> {
+        self.send(&Downlink::Config(config.clone()))?;
+        // The module answers a rejected configuration with a fault; ask for health to sync.
+        self.send(&Downlink::Health)?;
+        loop {
+            match self.receive()? {
+                Uplink::Health(_) => break,
+                Uplink::Fault { fault, .. } => {
+                    return Err(format!(
+                        "the module rejected the radar configuration ({fault:?}): it takes at most 1024 samples per chirp and frames whose sums fit its 352 KiB arena"
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs frame `frame` with `hints`; returns each hint's result (`None` where the module
+    /// reported a fault for it).
+    ///
+    /// # Errors
+    /// A message if the link fails.
+    pub fn frame(
+        &mut self,
+        frame: u32,
+        hints: &[Hint],
+    ) -> Result<Vec<Option<ObjectResult>>, String> {
+        for h in hints {
+            self.send(&Downlink::Hint(h.clone()))?;
+        }
+        self.send(&Downlink::Frame {
+            frame,
+            objects: hints.len().min(255) as u8,
+            clutter: heapless::Vec::new(),
+        })?;
+        loop {
+            match self.receive()? {
+                Uplink::Results { summary, objects } if summary.frame == frame => {
+                    return Ok(hints
+                        .iter()
+                        .map(|h| objects.iter().find(|r| r.instance == h.instance).copied())
+                        .collect());
+                }
+                Uplink::Fault { frame: f, fault } => {
+                    self.faults.push((f, fault));
+                    if matches!(fault, Fault::Capture | Fault::NoConfig | Fault::Config)
+                        && f == frame
+                    {
+                        return Err(format!("the module could not run frame {frame}: {fault:?}"));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Stops the module and collects its counters and console.
+    ///
+    /// # Errors
+    /// A message if the module does not stop cleanly.
+    pub fn stop(mut self) -> Result<EdgeLog, String> {
+        self.send(&Downlink::Stop)?;
+        let health = loop {
+            if let Uplink::Health(h) = self.receive()? {
+                break h;
+            }
+        };
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let status = loop {
+            if let Some(s) = self.child.try_wait().map_err(|e| e.to_string())? {
+                break s;
+            }
+            if Instant::now() > deadline {
+                return Err("the module did not exit after Stop".into());
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut defmt = Vec::new();
+        if let Some(mut o) = self.child.stdout.take() {
+            let _ = o.read_to_end(&mut defmt);
+        }
+        if !status.success() {
+            return Err(format!(
+                "the module exited with {status}:\n{}",
+                decode_defmt(&self.elf, &defmt)
+            ));
+        }
+        Ok(EdgeLog {
+            health,
+            defmt,
+            elf: self.elf.clone(),
+        })
+    }
+
+    fn send(&mut self, msg: &Downlink) -> Result<(), String> {
+        let mut buf = [0u8; MAX_WIRE];
+        let n = self
+            .sender
+            .encode(msg, &mut buf)
+            .map_err(|e| e.to_string())?;
+        self.stream
+            .write_all(&buf[..n])
+            .map_err(|e| format!("link to the module: {e}"))
+    }
+
+    /// The next authentic uplink message; rejected frames are counted and skipped.
+    fn receive(&mut self) -> Result<Uplink, String> {
+        let deadline = Instant::now() + ANSWER_TIMEOUT;
+        let mut byte = [0u8; 1];
+        loop {
+            if Instant::now() > deadline {
+                return Err(format!(
+                    "the module did not answer within {ANSWER_TIMEOUT:?}"
+                ));
+            }
+            match self.stream.read(&mut byte) {
+                Ok(0) => return Err(self.died()),
+                Ok(_) => {}
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    ) =>
+                {
+                    continue;
+                }
+                Err(e) => return Err(format!("link to the module: {e}")),
+            }
+            match self.deframer.push(byte[0]) {
+                Some(Ok(frame)) => match self.receiver.open::<Uplink>(frame) {
+                    Ok(m) => return Ok(m),
+                    Err(e @ LinkError::Tag) if self.receiver.stats().accepted == 0 => {
+                        return Err(format!(
+                            "the module's first frame failed authentication ({e}): give --link-key the key the firmware was built with"
+                        ));
+                    }
+                    Err(_) => {}
+                },
+                Some(Err(e)) => self.receiver.count(e),
+                None => {}
+            }
+        }
+    }
+
+    /// Why the link closed, from QEMU's output.
+    fn died(&mut self) -> String {
+        let _ = self.child.wait();
+        let mut log = Vec::new();
+        if let Some(mut o) = self.child.stdout.take() {
+            let _ = o.read_to_end(&mut log);
+        }
+        let mut text = decode_defmt(&self.elf, &log);
+        if let Some(mut e) = self.child.stderr.take() {
+            let _ = e.read_to_string(&mut text);
+        }
+        format!("the module closed the link:\n{text}")
+    }
+
+    /// The host side's receive counters.
+    pub fn link_stats(&self) -> dsp::wire::LinkStats {
+        self.receiver.stats()
+    }
+}
+
+impl Drop for QemuEdge {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_file(&self.link);
+    }
+}
+
+/// Connects to QEMU's serial socket, waiting for it to listen.
+fn connect(port: u16) -> Result<TcpStream, String> {
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        match TcpStream::connect(("127.0.0.1", port)) {
+            Ok(s) => {
+                s.set_read_timeout(Some(Duration::from_millis(200)))
+                    .map_err(|e| e.to_string())?;
+                let _ = s.set_nodelay(true);
+                return Ok(s);
+            }
+            Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(50)),
+            Err(e) => return Err(format!("QEMU's UART socket on port {port}: {e}")),
+        }
+    }
+}

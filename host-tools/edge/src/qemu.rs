@@ -1,0 +1,93 @@
+//! Building the firmware and running it under QEMU (`qemu-system-arm -machine mps2-an500`).
+//!
+//! The firmware is its own Cargo workspace in `firmware/` (see its manifest); binaries talk to
+//! the host through semihosting and end QEMU with their exit code.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+/// The embedded target.
+pub const TARGET: &str = "thumbv7em-none-eabihf";
+
+/// Whether `qemu-system-arm` runs on this machine.
+pub fn available() -> bool {
+    Command::new("qemu-system-arm")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// The firmware's Cargo workspace of the Metamoran checkout this runs in: the first
+/// `firmware/` folder with a `Cargo.toml` in the current folder or one of its parents. `None`
+/// outside a checkout (an installed `metamoran` then takes `--firmware DIR`).
+pub fn find_firmware() -> Option<PathBuf> {
+    let cwd = std::env::current_dir().ok()?;
+    cwd.ancestors()
+        .map(|a| a.join("firmware"))
+        .find(|f| f.join("Cargo.toml").is_file())
+}
+
+/// Builds binary `bin` of the firmware workspace `firmware` in release mode and returns its ELF
+/// path.
+///
+/// # Errors
+/// A message with cargo's output if the build fails.
+pub fn build(firmware: &Path, bin: &str) -> Result<PathBuf, String> {
+    let dir = firmware;
+    let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .current_dir(dir)
+        .args(["build", "--release", "--target", TARGET, "--bin", bin])
+        .output()
+        .map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "building firmware binary {bin} failed (is the target installed? rustup target add {TARGET}):\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(dir.join("target").join(TARGET).join("release").join(bin))
+}
+
+/// Runs `elf` under QEMU with semihosting, optionally with deterministic instruction counting;
+/// returns what it printed. Gives up after `timeout`.
+///
+/// # Errors
+/// A message if QEMU is missing, times out, or the firmware exits with failure.
+pub fn run(elf: &Path, icount: bool, timeout: Duration) -> Result<String, String> {
+    let mut cmd = Command::new("timeout");
+    cmd.arg(timeout.as_secs().max(1).to_string())
+        .args([
+            "qemu-system-arm",
+            "-machine",
+            "mps2-an500",
+            "-cpu",
+            "cortex-m7",
+            "-nographic",
+            "-monitor",
+            "none",
+        ])
+        .args(["-semihosting-config", "enable=on,target=native"]);
+    if icount {
+        cmd.args(["-icount", "shift=0"]);
+    }
+    let out = cmd
+        .arg("-kernel")
+        .arg(elf)
+        .output()
+        .map_err(|e| format!("cannot run QEMU: {e}"))?;
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    match out.status.code() {
+        Some(0) => Ok(stdout),
+        Some(124) => Err(format!(
+            "QEMU timed out after {timeout:?}; output so far:\n{stdout}"
+        )),
+        Some(127) => Err("qemu-system-arm not found: apt-get install -y qemu-system-arm".into()),
+        _ => Err(format!(
+            "firmware {} failed under QEMU ({}):\n{stdout}{}",
+            elf.display(),
+            out.status,
+            String::from_utf8_lossy(&out.stderr)
+        )),
+    }
+}

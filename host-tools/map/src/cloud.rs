@@ -1,0 +1,77 @@
+//! Radar point clouds of a bundle's frames, with the module's `dsp` processing.
+
+use dsp::detect::{Cfar, Cfar2d, CfarKind, Edge};
+use dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
+use dsp::window::WindowKind;
+use metamoran_bundle::Bundle;
+use metamoran_process::frame::{FrameOptions, FrameProcessor};
+
+/// The detector settings for mapping: CA-CFAR 9.5 dB over magnitude (×3), 2 guard and 8
+/// training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks within
+/// 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell.
+pub fn default_options() -> CloudOptions {
+    let axis = |guard, train, edge| Cfar {
+        guard,
+        train,
+        scale: 3.0,
+        kind: CfarKind::CellAveraging,
+        edge,
+    };
+    CloudOptions {
+        cfar: Cfar2d {
+            rows: axis(2, 8, Edge::Truncate),
+            cols: axis(1, 4, Edge::Wrap),
+        },
+        direction_floor_db: 8.0,
+        min_range_m: 1.5,
+        dynamic_range_db: 80.0,
+    }
+}
+
+/// Turns a bundle's frames into point clouds, one at a time.
+pub struct Clouds {
+    processor: FrameProcessor,
+    geometry: ArrayGeometry,
+    options: CloudOptions,
+    samples: Vec<dsp::fixed::CQ15>,
+}
+
+impl Clouds {
+    /// For `bundle`'s radar, its antennas' elevations and `options`.
+    ///
+    /// # Errors
+    /// A message if the array or configuration cannot give point clouds.
+    pub fn new(bundle: &Bundle, options: CloudOptions) -> Result<Self, String> {
+        let scene = &bundle.scene;
+        let geometry =
+            ArrayGeometry::new(&scene.radar, &scene.tx_elevation, &scene.rx_elevation)
+                .map_err(|e| format!("{}: {e}", bundle.dir().join("scene.toml").display()))?;
+        let processor = FrameProcessor::new(
+            &scene.radar,
+            FrameOptions {
+                range_window: WindowKind::Hann,
+                doppler_window: WindowKind::Hann,
+                remove_static: false,
+            },
+        )?;
+        Ok(Self {
+            processor,
+            geometry,
+            options,
+            samples: Vec::new(),
+        })
+    }
+
+    /// The points of frame `frame`.
+    ///
+    /// # Errors
+    /// A message naming the file if the frame cannot be read.
+    pub fn frame(&mut self, bundle: &mut Bundle, frame: u32) -> Result<Vec<RadarPoint>, String> {
+        bundle
+            .read_radar_frame(frame, &mut self.samples)
+            .map_err(|e| e.to_string())?;
+        let spectra = self.processor.process(&self.samples)?;
+        self.processor
+            .points(&spectra, &self.geometry, &self.options)
+    }
+}

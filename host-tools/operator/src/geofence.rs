@@ -1,0 +1,375 @@
+//! Perimeter alerts (Metamoran's application): polygon zones on the ground plane, restricted
+//! classes, a least confidence, and alerts when a restricted object is inside a zone.
+//!
+//! The ground plane is the radar frame's `x` (right) and `z` (forward), metres; an object stands
+//! at `(d·sin az, d·cos az)` for its depth `d` and azimuth `az`. A zone is entered when the object
+//! is inside its polygon and left only when the object is more than `hysteresis_m` outside it
+//! (a Schmitt trigger on the signed distance to the boundary), so an object on the border does
+//! not flap. A frame in which the object is not detected changes nothing.
+//!
+//! ```toml
+//! restricted_classes = ["person", "car"]
+//! min_confidence_db = 6.0   # the module's peak over its search floor, dB (0: any detection)
+//! hysteresis_m = 1.0
+//!
+//! [[zone]]
+//! name = "gate"
+//! polygon = [[-8.0, 5.0], [8.0, 5.0], [8.0, 30.0], [-8.0, 30.0]]   # [x, z], m
+//! ```
+
+use metamoran_process::ObjectResult;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// One zone: a simple polygon on the ground plane.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Zone {
+    /// Name shown in alerts.
+    pub name: String,
+    /// Vertices `[x, z]`, metres, in order (either direction); at least 3.
+    pub polygon: Vec<[f64; 2]>,
+}
+
+/// A perimeter configuration (TOML; see the module docs).
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Perimeter {
+    /// Classes that raise alerts (`car`, `person`, `sign`, …).
+    pub restricted_classes: Vec<String>,
+    /// Least confidence, dB of the depth search's peak over its floor; objects without a
+    /// confidence (the baselines) pass.
+    #[serde(default)]
+    pub min_confidence_db: f64,
+    /// How far outside a zone, metres, an object inside it must go to leave it.
+    #[serde(default = "default_hysteresis")]
+    pub hysteresis_m: f64,
+    /// The zones.
+    #[serde(rename = "zone")]
+    pub zones: Vec<Zone>,
+}
+
+fn default_hysteresis() -> f64 {
+    1.0
+}
+
+impl Perimeter {
+    /// Reads and checks a perimeter file.
+    ///
+    /// # Errors
+    /// A message naming the file and the field that is missing, malformed or out of range.
+    pub fn load(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            format!(
+                "{}: cannot read the perimeter file ({e}); give a TOML file as in the README",
+                path.display()
+            )
+        })?;
+        Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// Parses and checks perimeter TOML.
+    ///
+    /// # Errors
+    /// A message naming the field that is missing, malformed or out of range.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let de = toml::Deserializer::parse(text).map_err(|e| e.to_string())?;
+        let p: Perimeter =
+            serde_path_to_error::deserialize(de).map_err(|e| format!("{}: {}", e.path(), e))?;
+        p.check()?;
+        Ok(p)
+    }
+
+    fn check(&self) -> Result<(), String> {
+        if !(self.hysteresis_m.is_finite() && self.hysteresis_m >= 0.0) {
+            return Err("hysteresis_m: give a distance ≥ 0 in metres".into());
+        }
+        if !self.min_confidence_db.is_finite() {
+            return Err("min_confidence_db: give a finite number of dB".into());
+        }
+        if self.zones.is_empty() {
+            return Err("zone: add at least one [[zone]] with a name and a polygon".into());
+        }
+        for (i, z) in self.zones.iter().enumerate() {
+            if z.polygon.len() < 3 {
+                return Err(format!(
+                    "zone[{i}].polygon ({}): give at least 3 [x, z] vertices",
+                    z.name
+                ));
+            }
+            if z.polygon.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(format!(
+                    "zone[{i}].polygon ({}): vertices must be finite metres",
+                    z.name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Signed distance from `p` to the polygon's boundary, metres: positive inside, negative outside
+/// (even–odd rule). O(vertices).
+pub fn signed_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> f64 {
+    let mut inside = false;
+    let mut best = f64::INFINITY;
+    for (i, &a) in polygon.iter().enumerate() {
+        let b = polygon[(i + 1) % polygon.len()];
+        // Crossing test of a ray towards +x.
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) * (b[0] - a[0]) / (b[1] - a[1]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+        // Distance to the segment a–b.
+        let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
+        let len2 = dx * dx + dz * dz;
+        let t = if len2 > 0.0 {
+            (((p[0] - a[0]) * dx + (p[1] - a[1]) * dz) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (ex, ez) = (a[0] + t * dx - p[0], a[1] + t * dz - p[1]);
+        best = best.min((ex * ex + ez * ez).sqrt());
+    }
+    if inside { best } else { -best }
+}
+
+/// Whether an alert opens or closes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AlertKind {
+    /// A restricted object entered the zone.
+    Enter,
+    /// It left (more than the hysteresis outside).
+    Exit,
+}
+
+/// One alert.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Alert {
+    /// Enter or exit.
+    pub kind: AlertKind,
+    /// Zone name.
+    pub zone: String,
+    /// Object instance id.
+    pub instance: u16,
+    /// Object class.
+    pub class: String,
+    /// Object depth, m.
+    pub depth_m: f64,
+    /// Object azimuth, degrees.
+    pub azimuth_deg: f64,
+    /// Ground position `[x, z]`, m.
+    pub position_m: [f64; 2],
+    /// Frame number.
+    pub frame: u32,
+    /// Time of the frame, s from the start.
+    pub time_s: f64,
+}
+
+/// Zone state of every object over time.
+#[derive(Clone, Debug)]
+pub struct Geofence {
+    perimeter: Perimeter,
+    /// `(instance, zone index)` pairs currently inside.
+    inside: HashMap<(u16, usize), bool>,
+}
+
+impl Geofence {
+    /// Every object outside every zone.
+    pub fn new(perimeter: Perimeter) -> Self {
+        Self {
+            perimeter,
+            inside: HashMap::new(),
+        }
+    }
+
+    /// The configuration.
+    pub fn perimeter(&self) -> &Perimeter {
+        &self.perimeter
+    }
+
+    /// Names of the zones `instance` is in now.
+    pub fn zones_of(&self, instance: u16) -> Vec<&str> {
+        self.perimeter
+            .zones
+            .iter()
+            .enumerate()
+            .filter(|(z, _)| self.inside.get(&(instance, *z)).copied().unwrap_or(false))
+            .map(|(_, zone)| zone.name.as_str())
+            .collect()
+    }
+
+    /// Whether `o` counts: detected, restricted class, confident enough, with a position.
+    fn position(&self, o: &ObjectResult) -> Option<[f64; 2]> {
+        let p = &self.perimeter;
+        let confident = o.confidence_db.is_none_or(|c| c >= p.min_confidence_db);
+        let restricted = p.restricted_classes.contains(&o.class);
+        match (
+            o.detected && confident && restricted,
+            o.depth_m,
+            o.azimuth_deg,
+        ) {
+            (true, Some(d), Some(az)) => {
+                let a = az.to_radians();
+                Some([d * a.sin(), d * a.cos()])
+            }
+            _ => None,
+        }
+    }
+
+    /// Updates the state with one frame's objects and returns the alerts it raises, by object
+    /// then zone. O(objects × vertices).
+    pub fn update(&mut self, frame: u32, time_s: f64, objects: &[ObjectResult]) -> Vec<Alert> {
+        let mut out = Vec::new();
+        for o in objects {
+            let Some(pos) = self.position(o) else {
+                continue;
+            };
+            for (z, zone) in self.perimeter.zones.iter().enumerate() {
+                let d = signed_distance(&zone.polygon, pos);
+                let state = self.inside.entry((o.instance, z)).or_insert(false);
+                let kind = match (*state, d) {
+                    (false, d) if d >= 0.0 => AlertKind::Enter,
+                    (true, d) if d < -self.perimeter.hysteresis_m => AlertKind::Exit,
+                    _ => continue,
+                };
+                *state = kind == AlertKind::Enter;
+                out.push(Alert {
+                    kind,
+                    zone: zone.name.clone(),
+                    instance: o.instance,
+                    class: o.class.clone(),
+                    depth_m: o.depth_m.unwrap_or(f64::NAN),
+                    azimuth_deg: o.azimuth_deg.unwrap_or(f64::NAN),
+                    position_m: pos,
+                    frame,
+                    time_s,
+                });
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SQUARE: [[f64; 2]; 4] = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
+
+    #[test]
+    fn signed_distance_of_a_square() {
+        // Closed forms: inside, the distance to the nearest side; outside, to the nearest point.
+        assert!((signed_distance(&SQUARE, [5.0, 5.0]) - 5.0).abs() < 1e-12);
+        assert!((signed_distance(&SQUARE, [1.0, 7.0]) - 1.0).abs() < 1e-12);
+        assert!((signed_distance(&SQUARE, [-3.0, 5.0]) + 3.0).abs() < 1e-12);
+        assert!((signed_distance(&SQUARE, [13.0, 14.0]) + 5.0).abs() < 1e-12);
+        // Clockwise order and a concave L give the same sign rule.
+        let mut cw = SQUARE;
+        cw.reverse();
+        assert!((signed_distance(&cw, [5.0, 5.0]) - 5.0).abs() < 1e-12);
+        let l = [
+            [0.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 4.0],
+            [0.0, 4.0],
+        ];
+        assert!(signed_distance(&l, [0.5, 3.0]) > 0.0);
+        assert!(signed_distance(&l, [3.0, 3.0]) < 0.0);
+    }
+
+    fn object(instance: u16, class: &str, x: f64, z: f64, conf: Option<f64>) -> ObjectResult {
+        ObjectResult {
+            instance,
+            class: class.into(),
+            detected: true,
+            depth_m: Some((x * x + z * z).sqrt()),
+            azimuth_deg: Some(x.atan2(z).to_degrees()),
+            points: Vec::new(),
+            confidence_db: conf,
+        }
+    }
+
+    fn perimeter() -> Perimeter {
+        Perimeter::parse(
+            "restricted_classes = [\"person\"]\nmin_confidence_db = 6.0\nhysteresis_m = 1.0\n\
+             [[zone]]\nname = \"yard\"\npolygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]\n",
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn hysteresis_keeps_a_border_object_from_flapping() {
+        let mut g = Geofence::new(perimeter());
+        // A person walking along x = 10 ± 0.5 m (the border) for 20 frames, then away.
+        let mut alerts = Vec::new();
+        for f in 0..25u32 {
+            let x = if f < 20 {
+                10.0 + if f % 2 == 0 { -0.5 } else { 0.5 }
+            } else {
+                12.0
+            };
+            alerts.extend(g.update(f, f as f64 * 0.1, &[object(3, "person", x, 5.0, Some(9.0))]));
+        }
+        let kinds: Vec<_> = alerts.iter().map(|a| (a.kind, a.frame)).collect();
+        assert_eq!(kinds, vec![(AlertKind::Enter, 0), (AlertKind::Exit, 20)]);
+        assert_eq!(alerts[0].zone, "yard");
+        assert!((alerts[0].position_m[0] - 9.5).abs() < 1e-9);
+        assert!(g.zones_of(3).is_empty());
+    }
+
+    #[test]
+    fn class_confidence_and_missed_frames() {
+        let mut g = Geofence::new(perimeter());
+        let inside = [5.0, 5.0];
+        // A car (not restricted) and an unconfident person raise nothing.
+        assert!(
+            g.update(
+                0,
+                0.0,
+                &[object(1, "car", inside[0], inside[1], Some(30.0))]
+            )
+            .is_empty()
+        );
+        assert!(
+            g.update(
+                0,
+                0.0,
+                &[object(2, "person", inside[0], inside[1], Some(3.0))]
+            )
+            .is_empty()
+        );
+        assert_eq!(
+            g.update(1, 0.1, &[object(2, "person", 5.0, 5.0, None)])
+                .len(),
+            1
+        );
+        // A frame where it is not detected keeps it inside.
+        let mut missed = object(2, "person", 50.0, 50.0, None);
+        missed.detected = false;
+        assert!(g.update(2, 0.2, &[missed]).is_empty());
+        assert_eq!(g.zones_of(2), vec!["yard"]);
+    }
+
+    #[test]
+    fn bad_files_name_the_field() {
+        let e = Perimeter::parse(
+            "restricted_classes = []\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0]]\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("zone[0].polygon"), "{e}");
+        let e = Perimeter::parse("restricted_classes = []\nhysteresis_m = -1.0\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]\n")
+            .unwrap_err();
+        assert!(e.contains("hysteresis_m"), "{e}");
+        let e = Perimeter::parse("restricted_classes = \"car\"\n").unwrap_err();
+        assert!(e.contains("restricted_classes"), "{e}");
+        let e = Perimeter::load(Path::new("/nonexistent/perimeter.toml")).unwrap_err();
+        assert!(e.contains("/nonexistent/perimeter.toml"), "{e}");
+    }
+}

@@ -1,0 +1,78 @@
+//! The files a run leaves for people and tools: `results.json` (cli.md's shape), per frame the
+//! fused depth image (KITTI PNG) and point cloud (PLY), `recording.mcap`, and the inspection
+//! plots.
+
+use crate::depth_image::{kitti_depth, write_ply, write_png16};
+use crate::geofence::Alert;
+use metamoran_bundle::geometry::CameraModel;
+use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_process::inspect::inspect_frame;
+use metamoran_process::{Mode, ProcessOutput};
+use std::path::Path;
+
+/// Writes `bytes` to `path`, naming it on failure.
+///
+/// # Errors
+/// A message naming the file.
+pub fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
+}
+
+/// `results.json` (cli.md's shape), per frame `depth_F.png` (KITTI, through `camera`) and
+/// `points_F.ply`, and `recording.mcap` with the frames (every `period_s`) and `alerts`.
+///
+/// # Errors
+/// A message naming the file that could not be written.
+pub fn write_outputs(
+    out: &Path,
+    camera: &CameraModel,
+    output: &ProcessOutput,
+    period_s: f64,
+    alerts: &[Alert],
+) -> Result<Vec<String>, String> {
+    let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
+    write(&out.join("results.json"), &json)?;
+    let mut files = vec!["results.json".to_owned()];
+    for f in &output.frames {
+        let img = kitti_depth(camera, f);
+        let png = format!("depth_{}.png", f.frame);
+        write_png16(&out.join(&png), camera.width, camera.height, &img)?;
+        let ply = format!("points_{}.ply", f.frame);
+        write_ply(&out.join(&ply), f)?;
+        files.extend([png, ply]);
+    }
+    crate::record::record(
+        &out.join("recording.mcap"),
+        &output.frames,
+        period_s,
+        alerts,
+    )?;
+    files.push("recording.mcap".into());
+    Ok(files)
+}
+
+/// `process --out DIR`: writes `results.json`, per frame the fused depth image (`depth_F.png`,
+/// 16-bit KITTI) and point cloud (`points_F.ply`), `recording.mcap`, and for the Metamoran mode the inspection
+/// plots of every object of every frame ([`crate::inspect`]). Returns the file names.
+///
+/// # Errors
+/// A message naming the folder or file that could not be written, or the bad bundle field.
+pub fn write_products(
+    dir: &Path,
+    bundle_dir: &Path,
+    options: OpenOptions,
+    out: &ProcessOutput,
+) -> Result<Vec<String>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
+    let mut bundle = Bundle::open(bundle_dir, options).map_err(|e| e.to_string())?;
+    let camera = CameraModel::new(&bundle.scene.camera);
+    let period = bundle.scene.radar.frame_period_s;
+    let mut files = write_outputs(dir, &camera, out, period, &[])?;
+    if out.mode == Mode::Metamoran {
+        for f in &out.frames {
+            let views = inspect_frame(&mut bundle, f.frame)?;
+            files.extend(crate::inspect::write_plots(dir, f.frame, &views)?);
+        }
+    }
+    Ok(files)
+}

@@ -1,0 +1,236 @@
+//! PNG plots of an [`ObjectView`] (plotters, bitmap backend): the range–azimuth maps before and
+//! after SIC side by side, and the correlation score `P(d)`.
+//!
+//! Labels need a TrueType font; plotters' `ab_glyph` backend takes one from memory, so the first
+//! plot reads DejaVu Sans from the usual system places (or `METAMORAN_FONT`) and registers it.
+
+use metamoran_process::inspect::{AZIMUTH_STEP_DEG, MAX_AZIMUTH_DEG, Map, ObjectView};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// Dynamic range of the maps' colour scale, dB below the strongest cell before SIC.
+pub const DYNAMIC_RANGE_DB: f32 = 40.0;
+
+/// Where the font is looked for, after `METAMORAN_FONT`.
+const FONT_PATHS: [&str; 4] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/Library/Fonts/Arial Unicode.ttf",
+];
+
+/// Registers the label font once.
+fn font() -> Result<(), String> {
+    static FONT: OnceLock<Result<(), String>> = OnceLock::new();
+    FONT.get_or_init(|| {
+        let wanted = std::env::var("METAMORAN_FONT").ok();
+        let path = wanted
+            .iter()
+            .map(String::as_str)
+            .chain(FONT_PATHS)
+            .find(|p| Path::new(p).is_file())
+            .ok_or_else(|| {
+                "no TrueType font for the plot labels: install DejaVu (apt-get install -y \
+                 fonts-dejavu-core) or set METAMORAN_FONT=/path/to/font.ttf"
+                    .to_owned()
+            })?;
+        let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+        plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            Box::leak(bytes.into_boxed_slice()),
+        )
+        .map_err(|_| format!("{path}: not a TrueType/OpenType font (METAMORAN_FONT)"))
+    })
+    .clone()
+}
+
+fn err(path: &Path) -> impl Fn(String) -> String + '_ {
+    move |e| format!("{}: cannot draw the plot: {e}", path.display())
+}
+
+/// The maps before and after SIC side by side (1400 × 700): colour is power within
+/// [`DYNAMIC_RANGE_DB`] of the strongest cell before SIC; white lines bound the object's span,
+/// the magenta bar is the chosen depth across the span, red crosses the cancelled reflectors.
+///
+/// # Errors
+/// A message naming the file, or the missing font.
+pub fn range_azimuth(path: &Path, frame: u32, view: &ObjectView) -> Result<(), String> {
+    font()?;
+    let root = BitMapBackend::new(path, (1400, 700)).into_drawing_area();
+    let e = err(path);
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let hi = view.before.max_db();
+    let lo = hi - DYNAMIC_RANGE_DB;
+    let (left, right) = root.split_horizontally(700);
+    let title = |what: &str| format!("frame {frame}, {} #{}: {what}", view.class, view.instance);
+    map_panel(&left, &title("before SIC"), &view.before, view, (lo, hi)).map_err(&e)?;
+    map_panel(
+        &right,
+        &title(&format!("after SIC ({} cancelled)", view.cancelled.len())),
+        &view.after,
+        view,
+        (lo, hi),
+    )
+    .map_err(&e)?;
+    root.present().map_err(|x| e(x.to_string()))
+}
+
+fn map_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    map: &Map,
+    view: &ObjectView,
+    (lo, hi): (f32, f32),
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let max_range = map.bins as f64 * map.bin_m;
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(55)
+        .build_cartesian_2d(-MAX_AZIMUTH_DEG..MAX_AZIMUTH_DEG, 0.0..max_range)
+        .map_err(|x| x.to_string())?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(format!(
+            "azimuth (deg); colour: power, 0 to -{DYNAMIC_RANGE_DB} dB re the strongest cell"
+        ))
+        .y_desc("range (m)")
+        .draw()
+        .map_err(|x| x.to_string())?;
+    let half = AZIMUTH_STEP_DEG / 2.0;
+    chart
+        .draw_series(map.azimuth_deg.iter().enumerate().flat_map(|(row, &a)| {
+            (0..map.bins).map(move |k| {
+                let db = map.db.get(row * map.bins + k).copied().unwrap_or(lo);
+                let colour = ViridisRGB::get_color_normalized(db.clamp(lo, hi), lo, hi);
+                Rectangle::new(
+                    [
+                        (a - half, k as f64 * map.bin_m),
+                        (a + half, (k + 1) as f64 * map.bin_m),
+                    ],
+                    colour.filled(),
+                )
+            })
+        }))
+        .map_err(|x| x.to_string())?;
+    let (s0, s1) = view.span_deg;
+    for s in [s0, s1] {
+        chart
+            .draw_series(LineSeries::new(
+                [(s, 0.0), (s, max_range)],
+                WHITE.stroke_width(1),
+            ))
+            .map_err(|x| x.to_string())?;
+    }
+    chart
+        .draw_series(LineSeries::new(
+            [(s0, view.depth_m), (s1, view.depth_m)],
+            MAGENTA.stroke_width(4),
+        ))
+        .map_err(|x| x.to_string())?
+        .label(format!("chosen depth {:.2} m", view.depth_m))
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], MAGENTA.stroke_width(4)));
+    chart
+        .draw_series(
+            view.cancelled
+                .iter()
+                .map(|&(r, a)| Cross::new((a, r), 7, RED.stroke_width(2))),
+        )
+        .map_err(|x| x.to_string())?
+        .label("cancelled by SIC")
+        .legend(|(x, y)| Cross::new((x + 8, y), 5, RED.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()
+        .map_err(|x| x.to_string())
+}
+
+/// The coarse score `P(d)` over the searched depths (900 × 450), the chosen depth and the
+/// median floor marked.
+///
+/// # Errors
+/// A message naming the file, or the missing font.
+pub fn score(path: &Path, frame: u32, view: &ObjectView) -> Result<(), String> {
+    font()?;
+    let e = err(path);
+    let root = BitMapBackend::new(path, (900, 450)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let (d0, d1) = view
+        .scores
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(d, _)| {
+            (a.min(d), b.max(d))
+        });
+    let (d0, d1) = if d0 < d1 { (d0, d1) } else { (0.0, 1.0) };
+    let top = view.scores.iter().map(|s| s.1).fold(view.floor, f32::max) as f64 * 1.1;
+    let verdict = if view.detected {
+        format!("{:.1} dB over the floor", view.confidence_db)
+    } else {
+        "not detected".to_owned()
+    };
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "frame {frame}, {} #{}: P(d), chosen {:.2} m ({verdict})",
+                view.class, view.instance, view.depth_m
+            ),
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(d0..d1, 0.0..top.max(1e-12))
+        .map_err(|x| e(x.to_string()))?;
+    chart
+        .configure_mesh()
+        .x_desc("depth of the closest point (m)")
+        .y_desc("correlation score P(d)")
+        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    chart
+        .draw_series(LineSeries::new(
+            view.scores.iter().map(|&(d, s)| (d, s as f64)),
+            BLUE.stroke_width(2),
+        ))
+        .map_err(|x| e(x.to_string()))?
+        .label("P(d)")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLUE.stroke_width(2)));
+    chart
+        .draw_series(LineSeries::new(
+            [(d0, view.floor as f64), (d1, view.floor as f64)],
+            BLACK.mix(0.5).stroke_width(1),
+        ))
+        .map_err(|x| e(x.to_string()))?
+        .label("median (floor)")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK.mix(0.5)));
+    chart
+        .draw_series(LineSeries::new(
+            [(view.depth_m, 0.0), (view.depth_m, top)],
+            MAGENTA.stroke_width(2),
+        ))
+        .map_err(|x| e(x.to_string()))?
+        .label("chosen depth")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], MAGENTA.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()
+        .map_err(|x| e(x.to_string()))?;
+    root.present().map_err(|x| e(x.to_string()))
+}

@@ -1,0 +1,291 @@
+//! `metamoran eval`: runs `process` over every bundle of a folder and reports errors against the
+//! ground truth like the Metamoran paper's Table I: median absolute depth error and its spread
+//! per method, per class and per range bin, the detection rate, the fraction of errors over 1 m
+//! (the long tail), and the median modified Hausdorff distance of the depth-image points.
+
+pub mod metrics;
+
+use crate::{Mode, ProcessOptions, process};
+use metamoran_bundle::Truth;
+use metrics::{median, modified_hausdorff, quantile, std_dev};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Range bins of the report, m (the paper's three, then longer ones).
+pub const RANGE_BINS: [(f64, f64); 5] = [
+    (0.0, 20.0),
+    (20.0, 40.0),
+    (40.0, 60.0),
+    (60.0, 90.0),
+    (90.0, 300.0),
+];
+
+/// One object in one frame under one mode.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sample {
+    /// Bundle folder name.
+    pub bundle: String,
+    /// Method.
+    pub mode: Mode,
+    /// Class.
+    pub class: String,
+    /// True depth, m.
+    pub truth_m: f64,
+    /// Signed error (estimate − truth), m; `None` when not detected.
+    pub error_m: Option<f64>,
+    /// Modified Hausdorff distance to the truth points, m.
+    pub mhd_m: Option<f64>,
+}
+
+/// Statistics of a group of samples.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Stats {
+    /// Objects.
+    pub n: usize,
+    /// Fraction reported detected.
+    pub detection_rate: f64,
+    /// Median absolute depth error of detected objects, m.
+    pub mae_m: Option<f64>,
+    /// Standard deviation of the absolute errors, m.
+    pub std_m: Option<f64>,
+    /// 90th percentile of the absolute errors, m.
+    pub p90_m: Option<f64>,
+    /// Fraction of detected objects off by more than 1 m.
+    pub over_1m: Option<f64>,
+    /// Median modified Hausdorff distance, m.
+    pub mhd_m: Option<f64>,
+}
+
+impl Stats {
+    fn of<'a>(samples: impl Iterator<Item = &'a Sample>) -> Self {
+        let s: Vec<&Sample> = samples.collect();
+        if s.is_empty() {
+            return Self::default();
+        }
+        let abs: Vec<f64> = s.iter().filter_map(|x| x.error_m.map(f64::abs)).collect();
+        let mhd: Vec<f64> = s.iter().filter_map(|x| x.mhd_m).collect();
+        Self {
+            n: s.len(),
+            detection_rate: abs.len() as f64 / s.len() as f64,
+            mae_m: median(&abs),
+            std_m: std_dev(&abs),
+            p90_m: quantile(&abs, 0.9),
+            over_1m: (!abs.is_empty())
+                .then(|| abs.iter().filter(|&&e| e > 1.0).count() as f64 / abs.len() as f64),
+            mhd_m: median(&mhd),
+        }
+    }
+}
+
+/// The report of one mode.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModeReport {
+    /// All objects.
+    pub all: Stats,
+    /// Per class.
+    pub by_class: BTreeMap<String, Stats>,
+    /// Per range bin ("0-20", …).
+    pub by_range: BTreeMap<String, Stats>,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    /// Bundles evaluated.
+    pub bundles: usize,
+    /// Per mode.
+    pub modes: BTreeMap<String, ModeReport>,
+    /// Bundles that could not be processed, with the reason.
+    pub failed: Vec<String>,
+}
+
+fn range_key(lo: f64, hi: f64) -> String {
+    format!("{lo:.0}-{hi:.0}")
+}
+
+/// The bundle folders inside `dir` (those with a scene.toml), sorted.
+///
+/// # Errors
+/// A message if `dir` cannot be listed or holds no bundle.
+pub fn bundles_in(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let entries =
+        std::fs::read_dir(dir).map_err(|e| format!("{}: cannot list it ({e})", dir.display()))?;
+    let mut v: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.join("scene.toml").is_file())
+        .collect();
+    v.sort();
+    if v.is_empty() {
+        return Err(format!(
+            "{}: no bundle folders (with scene.toml) inside; make some with `metamoran simulate`",
+            dir.display()
+        ));
+    }
+    Ok(v)
+}
+
+/// Evaluates one bundle under every mode.
+fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, String> {
+    let truth_path = dir.join("truth.json");
+    let bundle = dir
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut samples = Vec::new();
+    for &mode in modes {
+        let out = process(dir, &ProcessOptions::mode(mode))?;
+        let truth = Truth::read(&truth_path, out.frames.len() as u32).map_err(|e| e.to_string())?;
+        for f in &out.frames {
+            let Some(tf) = truth.frames.iter().find(|t| t.frame == f.frame) else {
+                continue;
+            };
+            for t in &tf.objects {
+                let est = f.objects.iter().find(|o| o.instance == t.instance);
+                let error_m = est
+                    .and_then(|o| o.detected.then_some(o.depth_m).flatten())
+                    .map(|d| d - t.depth_m);
+                let mhd_m = est.and_then(|o| modified_hausdorff(&o.points, &t.points));
+                samples.push(Sample {
+                    bundle: bundle.clone(),
+                    mode,
+                    class: t.class.clone(),
+                    truth_m: t.depth_m,
+                    error_m,
+                    mhd_m,
+                });
+            }
+        }
+    }
+    Ok(samples)
+}
+
+/// Evaluates every bundle in `dir` (in parallel) under `modes`; `done` is called (from any
+/// thread) as each bundle is finished, for a progress bar.
+///
+/// # Errors
+/// A message if `dir` holds no bundle. Bundles that fail are listed in the report.
+pub fn run(
+    dir: &Path,
+    modes: &[Mode],
+    done: &(dyn Fn() + Sync),
+) -> Result<(Report, Vec<Sample>), String> {
+    let dirs = bundles_in(dir)?;
+    let results: Vec<Result<Vec<Sample>, String>> = dirs
+        .par_iter()
+        .map(|d| {
+            let r = evaluate(d, modes);
+            done();
+            r
+        })
+        .collect();
+    let mut samples = Vec::new();
+    let mut failed = Vec::new();
+    for r in results {
+        match r {
+            Ok(s) => samples.extend(s),
+            Err(e) => failed.push(e),
+        }
+    }
+    let mut reports = BTreeMap::new();
+    for &mode in modes {
+        let of_mode = || samples.iter().filter(move |s| s.mode == mode);
+        let classes: std::collections::BTreeSet<&str> =
+            of_mode().map(|s| s.class.as_str()).collect();
+        let by_class = classes
+            .into_iter()
+            .map(|c| (c.to_owned(), Stats::of(of_mode().filter(|s| s.class == c))))
+            .collect();
+        let by_range = RANGE_BINS
+            .iter()
+            .map(|&(lo, hi)| {
+                (
+                    range_key(lo, hi),
+                    Stats::of(of_mode().filter(|s| s.truth_m >= lo && s.truth_m < hi)),
+                )
+            })
+            .filter(|(_, s)| s.n > 0)
+            .collect();
+        reports.insert(
+            mode.name().to_owned(),
+            ModeReport {
+                all: Stats::of(of_mode()),
+                by_class,
+                by_range,
+            },
+        );
+    }
+    Ok((
+        Report {
+            bundles: dirs.len() - failed.len(),
+            modes: reports,
+            failed,
+        },
+        samples,
+    ))
+}
+
+impl std::fmt::Display for Report {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let cell = |s: Option<&Stats>| match s {
+            Some(s) if s.n > 0 => match (s.mae_m, s.std_m) {
+                (Some(m), Some(d)) => format!("{m:6.2} {d:6.2} {:>3}", s.n),
+                _ => format!("{:>6} {:>6} {:>3}", "—", "—", s.n),
+            },
+            _ => format!("{:>6} {:>6} {:>3}", "", "", ""),
+        };
+        writeln!(
+            f,
+            "Depth estimation, {} bundles: median absolute error (MAE) and standard deviation (STD) in metres, n objects",
+            self.bundles
+        )?;
+        let mut head = format!("{:<10} {:^17}", "method", "all");
+        for c in ["car", "sign", "person"] {
+            head += &format!(" {c:^17}");
+        }
+        for (lo, hi) in RANGE_BINS {
+            head += &format!(" {:^17}", format!("{lo:.0}–{hi:.0} m"));
+        }
+        writeln!(f, "{head}")?;
+        for (name, r) in &self.modes {
+            let mut line = format!("{name:<10} {}", cell(Some(&r.all)));
+            for c in ["car", "sign", "person"] {
+                line += &format!(" {}", cell(r.by_class.get(c)));
+            }
+            for (lo, hi) in RANGE_BINS {
+                line += &format!(" {}", cell(r.by_range.get(&range_key(lo, hi))));
+            }
+            writeln!(f, "{line}")?;
+        }
+        writeln!(
+            f,
+            "\n{:<10} {:>10} {:>10} {:>10} {:>12}",
+            "method", "detected", "p90 m", "> 1 m", "median MHD m"
+        )?;
+        for (name, r) in &self.modes {
+            let a = &r.all;
+            let opt = |v: Option<f64>, pct: bool| {
+                v.map_or("—".into(), |x| {
+                    if pct {
+                        format!("{:.1}%", 100.0 * x)
+                    } else {
+                        format!("{x:.2}")
+                    }
+                })
+            };
+            writeln!(
+                f,
+                "{name:<10} {:>10} {:>10} {:>10} {:>12}",
+                opt(Some(a.detection_rate), true),
+                opt(a.p90_m, false),
+                opt(a.over_1m, true),
+                opt(a.mhd_m, false)
+            )?;
+        }
+        for e in &self.failed {
+            writeln!(f, "FAILED: {e}")?;
+        }
+        Ok(())
+    }
+}

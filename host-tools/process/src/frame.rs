@@ -1,0 +1,304 @@
+//! Per-frame radar processing on the host with the module's `dsp` code: range cube, range
+//! profile, range–Doppler map, and the azimuth of any cell.
+
+use dsp::array::VirtualArray;
+use dsp::azimuth::azimuth_spectrum;
+use dsp::config::{RadarConfig, azimuth_bin_to_angle};
+use dsp::detect::quadratic_offset;
+use dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map};
+use dsp::fft::{self, Exponent};
+use dsp::fixed::{CQ15, Q15};
+use dsp::range::{RangeCube, RangeProcessor};
+use dsp::units::{AzimuthBin, Radians, signed_bin};
+use dsp::window::{self, WindowKind};
+
+/// Shortest axis that gets a window; shorter ones are processed rectangular.
+pub const MIN_WINDOW_LEN: usize = 8;
+
+/// Processing choices.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameOptions {
+    /// Window over the ADC samples before the range FFT.
+    pub range_window: WindowKind,
+    /// Window over the loops before the Doppler FFT.
+    pub doppler_window: WindowKind,
+    /// Subtract the mean over loops before the Doppler FFT.
+    pub remove_static: bool,
+}
+
+/// The spectra of one frame.
+#[derive(Clone, Debug)]
+pub struct FrameSpectra {
+    /// Mean |range spectrum| over all chirps and receivers, per range bin (linear, full scale 1).
+    pub range_profile: Vec<f32>,
+    /// |Doppler spectrum| summed over channels: `range_bins × doppler_len`, natural FFT order.
+    pub range_doppler: Vec<f32>,
+    /// Range FFT length.
+    pub range_bins: usize,
+    /// Doppler FFT length.
+    pub doppler_len: usize,
+}
+
+/// Owns the buffers for processing frames of one configuration.
+pub struct FrameProcessor {
+    config: RadarConfig,
+    options: FrameOptions,
+    range_window: Vec<Q15>,
+    doppler_window: Vec<Q15>,
+    cube: RangeCube<Vec<CQ15>, Vec<Exponent>>,
+    array: VirtualArray,
+    scratch: Vec<CQ15>,
+}
+
+impl FrameProcessor {
+    /// Buffers for `config`.
+    ///
+    /// # Errors
+    /// A message if the configuration cannot be processed.
+    pub fn new(config: &RadarConfig, options: FrameOptions) -> Result<Self, String> {
+        config.validate().map_err(|e| e.to_string())?;
+        let array = VirtualArray::new(config).map_err(|e| e.to_string())?;
+        let make = |kind, len| {
+            let mut w = vec![Q15::ZERO; len];
+            window::fill(kind, &mut w);
+            w
+        };
+        let (nr, nd, loops) = (
+            config.range_fft_len(),
+            config.doppler_fft_len(),
+            config.chirps_per_tx as usize,
+        );
+        let rows = config.channels() * loops;
+        let cube = RangeCube::new(
+            vec![CQ15::default(); rows * nr],
+            vec![Exponent::default(); rows],
+            config.slots(),
+            config.rx_count(),
+            loops,
+            nr,
+        )
+        .map_err(|e| e.to_string())?;
+        Ok(Self {
+            config: config.clone(),
+            options,
+            range_window: make(options.range_window, config.adc_samples as usize),
+            doppler_window: make(options.doppler_window, loops),
+            cube,
+            array,
+            scratch: vec![CQ15::default(); nd],
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RadarConfig {
+        &self.config
+    }
+
+    /// The virtual array.
+    pub fn array(&self) -> &VirtualArray {
+        &self.array
+    }
+
+    /// The window table to use, if any. Symmetric windows shorter than
+    /// [`MIN_WINDOW_LEN`] are (nearly) all zero (a 2-point Hann is `[0, 0]`), so short axes
+    /// stay rectangular.
+    fn window_of(kind: WindowKind, table: &[Q15]) -> Option<&[Q15]> {
+        (kind != WindowKind::Rectangular && table.len() >= MIN_WINDOW_LEN).then_some(table)
+    }
+
+    fn doppler_options(&self, remove_static: bool) -> DopplerOptions<'_> {
+        DopplerOptions {
+            remove_static,
+            window: Self::window_of(self.options.doppler_window, &self.doppler_window),
+        }
+    }
+
+    /// Range-processes one frame (`[chirp][rx][sample]`) into the cube and returns its spectra.
+    ///
+    /// # Errors
+    /// A message if the frame has the wrong size.
+    pub fn process(&mut self, frame: &[CQ15]) -> Result<FrameSpectra, String> {
+        let c = &self.config;
+        let (n, rx, nr, nd) = (
+            c.adc_samples as usize,
+            c.rx_count(),
+            c.range_fft_len(),
+            c.doppler_fft_len(),
+        );
+        if frame.len() != c.samples_per_frame() {
+            return Err(format!(
+                "frame has {} samples; the config needs {}",
+                frame.len(),
+                c.samples_per_frame()
+            ));
+        }
+        let window = Self::window_of(self.options.range_window, &self.range_window);
+        let processor = RangeProcessor::new(n, nr, window).map_err(|e| e.to_string())?;
+        for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
+            for (r, samples) in rows.chunks_exact(n).enumerate() {
+                self.cube
+                    .push_chirp(&processor, chirp, r, samples)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+        let mut range_profile = vec![0f32; nr];
+        let mut rows = 0;
+        for (row, exp) in self.cube.rows() {
+            rows += 1;
+            for (p, &z) in range_profile.iter_mut().zip(row) {
+                *p += magnitude(z, exp);
+            }
+        }
+        range_profile.iter_mut().for_each(|p| *p /= rows as f32);
+        let mut range_doppler = vec![0f32; nr * nd];
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let result = range_doppler_map(
+            &self.cube,
+            &self.doppler_options(self.options.remove_static),
+            &mut scratch,
+            &mut range_doppler,
+        );
+        self.scratch = scratch;
+        result.map_err(|e| e.to_string())?;
+        Ok(FrameSpectra {
+            range_profile,
+            range_doppler,
+            range_bins: nr,
+            doppler_len: nd,
+        })
+    }
+
+    /// The Doppler spectrum (natural FFT order) and block exponent of every channel at range
+    /// bin `bin` of the last frame, each computed once.
+    ///
+    /// # Errors
+    /// A message if the bin is out of range.
+    pub fn doppler_spectra(
+        &mut self,
+        bin: usize,
+        remove_static: bool,
+    ) -> Result<Vec<(Exponent, Vec<CQ15>)>, String> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut out = Vec::with_capacity(self.array.channels());
+        let mut result = Ok(());
+        for ch in 0..self.array.channels() {
+            match doppler_column(
+                &self.cube,
+                ch,
+                bin,
+                &self.doppler_options(remove_static),
+                &mut scratch,
+            ) {
+                Ok(e) => out.push((e, scratch.clone())),
+                Err(e) => {
+                    result = Err(e.to_string());
+                    break;
+                }
+            }
+        }
+        self.scratch = scratch;
+        result.map(|()| out)
+    }
+
+    /// Channel values of range bin `bin` at Doppler index `doppler` of the last frame, aligned to
+    /// one exponent (index 0 without static removal is the sum over loops: the static scene).
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn channel_values(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<(Vec<CQ15>, Exponent), String> {
+        let spectra = self.doppler_spectra(bin, remove_static)?;
+        let top = spectra.iter().map(|(e, _)| e.0).max().unwrap_or(0);
+        let values = spectra
+            .iter()
+            .map(|(e, s)| {
+                s.get(doppler)
+                    .map(|z| z.scale_down(top - e.0))
+                    .ok_or_else(|| format!("Doppler index {doppler} out of range"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((values, Exponent(top)))
+    }
+
+    /// The point cloud of the last processed frame (`spectra` is what [`Self::process`]
+    /// returned for it): [`dsp::points::frame_points`] over this processor's range cube.
+    ///
+    /// # Errors
+    /// A message if the buffers do not fit the configuration.
+    pub fn points(
+        &mut self,
+        spectra: &FrameSpectra,
+        geometry: &dsp::points::ArrayGeometry,
+        options: &dsp::points::CloudOptions,
+    ) -> Result<Vec<dsp::points::RadarPoint>, String> {
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut values =
+            vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * spectra.doppler_len];
+        let mut out = Vec::new();
+        let result = dsp::points::frame_points(
+            &self.cube,
+            &self.config,
+            geometry,
+            &self.doppler_options(self.options.remove_static),
+            &spectra.range_doppler,
+            options,
+            &mut scratch,
+            &mut values,
+            |p| out.push(p),
+        );
+        self.scratch = scratch;
+        result.map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+
+    /// Azimuth FFT length used for this array: 4× oversampled, at least 64 points.
+    pub fn azimuth_len(&self) -> usize {
+        fft::padded_len((4 * self.array.span()).max(64)).unwrap_or(fft::MAX_LEN)
+    }
+
+    /// |azimuth spectrum| (natural FFT order, [`Self::azimuth_len`] points) of range bin `bin`
+    /// at Doppler index `doppler` of the last frame, in full-scale units.
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn azimuth_profile(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<Vec<f32>, String> {
+        let (values, exp) = self.channel_values(bin, doppler, remove_static)?;
+        let mut spec = vec![CQ15::default(); self.azimuth_len()];
+        let e = azimuth_spectrum(&self.array, &values, &mut spec).map_err(|e| e.to_string())?;
+        let scale = Exponent(exp.0 + e.0);
+        Ok(spec.iter().map(|&z| magnitude(z, scale)).collect())
+    }
+
+    /// Azimuth of the strongest direction at range bin `bin`, Doppler index `doppler` (natural
+    /// FFT order; index 0 without static removal is the static scene) of the last processed
+    /// frame, by a zero-padded azimuth FFT with quadratic interpolation. `None` if the peak lies
+    /// outside the visible region.
+    ///
+    /// # Errors
+    /// A message if an index is out of range.
+    pub fn azimuth_at(
+        &mut self,
+        bin: usize,
+        doppler: usize,
+        remove_static: bool,
+    ) -> Result<Option<Radians>, String> {
+        let mag = self.azimuth_profile(bin, doppler, remove_static)?;
+        let na = mag.len();
+        let k = (0..na)
+            .max_by(|&a, &b| mag[a].total_cmp(&mag[b]))
+            .unwrap_or(0);
+        let db = |i: usize| 20.0 * (mag[i % na].max(1e-30)).log10();
+        let offset = quadratic_offset(db(k + na - 1), db(k), db(k + 1));
+        let bin = signed_bin(k, na) as f32 + offset;
+        Ok(azimuth_bin_to_angle(AzimuthBin(bin), na))
+    }
+}

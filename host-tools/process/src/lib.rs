@@ -1,0 +1,287 @@
+//! Frame processing: per-frame estimates of each object of interest's depth, azimuth and
+//! depth-image points, in the JSON shape of `shared/spec/cli.md`.
+//!
+//! This crate is the host's middle stage (bundle → **process** → map, operator → binary). The
+//! radar side runs the module's `dsp` code ([`frame`], and the module itself through
+//! `metamoran-edge`); the camera side reads the bundle's mask and monocular depth
+//! ([`camera_points`]). The three methods are [`naive`], [`monocular`] and [`metamoran`];
+//! [`inspect`] shows what the search saw, [`eval`] scores methods against the truth and
+//! [`summary`] describes a bare capture.
+
+pub mod camera_points;
+pub mod eval;
+pub mod frame;
+pub mod inspect;
+pub mod metamoran;
+pub mod monocular;
+pub mod naive;
+pub mod summary;
+
+use crate::frame::{FrameOptions, FrameProcessor};
+use camera_points::{CameraObject, objects_of_interest};
+use dsp::window::WindowKind;
+use dsp::wire::Key;
+use metamoran_bundle::geometry::{CameraModel, Point};
+use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_edge::link::{EdgeLog, QemuEdge};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// A processing method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Camera-guided shape correlation with clutter cancellation, then depth imaging.
+    #[default]
+    Metamoran,
+    /// Strongest range–azimuth reflector inside the mask's azimuth span.
+    Naive,
+    /// The closest masked monocular depth point.
+    Monocular,
+}
+
+impl Mode {
+    /// The name used on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Metamoran => "metamoran",
+            Mode::Naive => "naive",
+            Mode::Monocular => "monocular",
+        }
+    }
+}
+
+/// One object's estimate (cli.md).
+#[derive(Clone, Debug, Serialize)]
+pub struct ObjectResult {
+    /// Instance id.
+    pub instance: u16,
+    /// Class word.
+    pub class: String,
+    /// Whether the method found something it trusts.
+    pub detected: bool,
+    /// Range of the object's closest point, m (`null` when not detected).
+    pub depth_m: Option<f64>,
+    /// Azimuth, degrees (`null` when unknown).
+    pub azimuth_deg: Option<f64>,
+    /// Depth image as points in the radar frame, m.
+    pub points: Vec<[f64; 3]>,
+    /// The module's confidence (dB of the search peak over its floor) where the method has one;
+    /// not part of cli.md's JSON.
+    #[serde(skip)]
+    pub confidence_db: Option<f64>,
+}
+
+impl ObjectResult {
+    /// A detection at `depth` (m) and `azimuth` (rad) with its points.
+    pub fn found(obj: &CameraObject, depth: f64, azimuth: Option<f64>, points: Vec<Point>) -> Self {
+        let mm = |v: f64| (v * 1000.0).round() / 1000.0;
+        Self {
+            instance: obj.instance,
+            class: obj.class.clone(),
+            detected: true,
+            depth_m: Some(mm(depth)),
+            azimuth_deg: azimuth.map(|a| (a.to_degrees() * 100.0).round() / 100.0),
+            points: points.iter().map(|p| [mm(p.x), mm(p.y), mm(p.z)]).collect(),
+            confidence_db: None,
+        }
+    }
+
+    /// Nothing trusted for this object.
+    pub fn missed(obj: &CameraObject) -> Self {
+        Self {
+            instance: obj.instance,
+            class: obj.class.clone(),
+            detected: false,
+            depth_m: None,
+            azimuth_deg: None,
+            points: Vec::new(),
+            confidence_db: None,
+        }
+    }
+}
+
+/// One frame's estimates.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameResult {
+    /// Frame number.
+    pub frame: u32,
+    /// One entry per object-of-interest instance, in id order.
+    pub objects: Vec<ObjectResult>,
+}
+
+/// The whole output of `process --json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProcessOutput {
+    /// The mode that produced it.
+    pub mode: Mode,
+    /// Per frame.
+    pub frames: Vec<FrameResult>,
+}
+
+/// Where the module's share of [`Mode::Metamoran`] runs. Both give the same JSON.
+#[derive(Clone, Default)]
+pub enum Module {
+    /// The `dsp` pipeline called in this process.
+    #[default]
+    InProcess,
+    /// The firmware under QEMU, over the telemetry link (`metamoran_edge::link`).
+    Qemu {
+        /// The firmware's Cargo workspace (`firmware/` of a checkout), built for the run.
+        firmware: PathBuf,
+        /// The link key the firmware was built with.
+        key: Key,
+    },
+}
+
+/// How to process a bundle.
+#[derive(Clone, Default)]
+pub struct ProcessOptions {
+    /// The method.
+    pub mode: Mode,
+    /// How to read the bundle.
+    pub open: OpenOptions,
+    /// Where the module runs (with [`Mode::Metamoran`]).
+    pub module: Module,
+}
+
+impl ProcessOptions {
+    /// `mode` in this process, the bundle read as it is.
+    pub fn mode(mode: Mode) -> Self {
+        Self {
+            mode,
+            ..Self::default()
+        }
+    }
+}
+
+/// Processes every frame of the bundle in `dir`.
+///
+/// # Errors
+/// A message naming the file and field of a bad bundle, or why the mode or module cannot run.
+pub fn process(dir: &Path, options: &ProcessOptions) -> Result<ProcessOutput, String> {
+    process_streamed(dir, options, |_| Ok(())).map(|(out, _)| out)
+}
+
+/// One frame as it comes back, for views that update while a bundle is processed.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameEvent<'a> {
+    /// The frame's estimates.
+    pub result: &'a FrameResult,
+    /// Frames in the bundle.
+    pub of: u32,
+    /// Time from reading the frame's radar samples to its results: the read, the host's
+    /// Doppler pass for movers and the module's round trip (QEMU) or search (in process).
+    pub latency: std::time::Duration,
+    /// The host's receive counters of the telemetry link (QEMU only).
+    pub link: Option<dsp::wire::LinkStats>,
+}
+
+/// [`process`], calling `on_frame` as each frame's results arrive (an error it returns stops
+/// the run), and also returning what the QEMU module reported when it stopped.
+///
+/// # Errors
+/// As [`process`], or `on_frame`'s.
+pub fn process_streamed(
+    dir: &Path,
+    options: &ProcessOptions,
+    mut on_frame: impl FnMut(FrameEvent<'_>) -> Result<(), String>,
+) -> Result<(ProcessOutput, Option<EdgeLog>), String> {
+    let mode = options.mode;
+    let iq_order = options.open.iq_order;
+    let mut bundle = Bundle::open(dir, options.open.clone()).map_err(|e| e.to_string())?;
+    let mut module = match (mode, &options.module) {
+        (Mode::Metamoran, Module::Qemu { firmware, key }) => {
+            if iq_order != dsp::capture::IqOrder::Iiqq {
+                return Err("--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process".into());
+            }
+            let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
+            q.configure(&bundle.scene.radar)?;
+            Some(q)
+        }
+        _ => None,
+    };
+    let camera = CameraModel::new(&bundle.scene.camera);
+    let frame_options = FrameOptions {
+        range_window: WindowKind::Hann,
+        doppler_window: WindowKind::Rectangular,
+        remove_static: false,
+    };
+    let mut proc = FrameProcessor::new(&bundle.scene.radar, frame_options)?;
+    let mut samples = Vec::new();
+    let mut frames = Vec::new();
+    for f in 0..bundle.frames() {
+        let cam = bundle.camera_frame(f).map_err(|e| e.to_string())?;
+        let objects = objects_of_interest(&camera, &cam);
+        let started = std::time::Instant::now();
+        let results = match mode {
+            Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
+            Mode::Metamoran => {
+                bundle
+                    .read_radar_frame(f, &mut samples)
+                    .map_err(|e| e.to_string())?;
+                let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
+                if let Some(q) = module.as_mut() {
+                    let hints: Vec<_> =
+                        objects.iter().map(|o| metamoran::wire_hint(f, o)).collect();
+                    let wire: Vec<_> = hints.iter().flatten().cloned().collect();
+                    // One result (or None) per sent hint, in order.
+                    let mut results = q.frame(f, &wire)?.into_iter();
+                    objects
+                        .iter()
+                        .zip(&hints)
+                        .map(|(o, h)| match h {
+                            Some(h) => metamoran::merge(
+                                o,
+                                &h.to_object(),
+                                results.next().flatten(),
+                                moving.as_ref(),
+                            ),
+                            None => ObjectResult::missed(o),
+                        })
+                        .collect()
+                } else {
+                    let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
+                    objects
+                        .iter()
+                        .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
+                        .collect()
+                }
+            }
+            Mode::Naive => {
+                bundle
+                    .read_radar_frame(f, &mut samples)
+                    .map_err(|e| e.to_string())?;
+                let spectra = proc.process(&samples)?;
+                let ra = naive::RangeAzimuth::new(&mut proc, spectra.range_bins)?;
+                objects
+                    .iter()
+                    .map(|o| naive::estimate(&ra, &proc, o))
+                    .collect()
+            }
+        };
+        let result = FrameResult {
+            frame: f,
+            objects: results,
+        };
+        on_frame(FrameEvent {
+            result: &result,
+            of: bundle.frames(),
+            latency: started.elapsed(),
+            link: module.as_ref().map(QemuEdge::link_stats),
+        })?;
+        frames.push(result);
+    }
+    let log = match module {
+        Some(q) => {
+            let log = q.stop()?;
+            let h = log.health;
+            if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
+                eprintln!("warning: the module counted errors: {h:?}");
+            }
+            Some(log)
+        }
+        None => None,
+    };
+    Ok((ProcessOutput { mode, frames }, log))
+}

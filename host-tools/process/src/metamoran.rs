@@ -1,0 +1,527 @@
+//! The Metamoran method on the host: per frame, the static sums and spectra (module code in
+//! `dsp`); per object, its contour from the camera, clutter cancellation outside its span,
+//! the depth search, and depth imaging (Sec. IV).
+
+use super::ObjectResult;
+use super::camera_points::CameraObject;
+use dsp::clutter::peaks::{MAX_PEAKS, Peak};
+use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
+use dsp::config::RadarConfig;
+use dsp::fft::C32;
+use dsp::fixed::CQ15;
+use dsp::pipeline::{Edge, ObjectHint, ObjectReport, Scene};
+use dsp::range::{Spectra, StaticSum};
+use dsp::search::Contour;
+use dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
+use dsp::window::{WindowKind, coefficient_f64};
+use dsp::wire::{Hint, ObjectResult as WireResult};
+use metamoran_bundle::geometry::{Point, azimuth, range_xz};
+
+/// Width of the azimuth bins that build the contour and reject edge outliers, rad.
+const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
+/// Azimuth bins of the depth image with fewer points than this fraction of the fullest bin are
+/// edge outliers (the paper's per-azimuth-bin point-count threshold).
+const EDGE_FRACTION: f64 = 0.25;
+
+/// A frame's static scene through the module's pipeline ([`dsp::pipeline`]): the arena with the
+/// frame's fixed-point spectra and peak list, plus the `f32` sums the reference search needs.
+pub struct StaticScene {
+    edge: Edge,
+    arena: Vec<u32>,
+    exponent: i32,
+    peaks: heapless::Vec<Peak, MAX_PEAKS>,
+    /// Windowed `f32` sums per element (`elements × N`), for the reference search only.
+    samples: Vec<C32>,
+    window: Vec<f32>,
+}
+
+impl StaticScene {
+    /// Streams `frame` (`[chirp][rx][sample]`) through the module's frame stage.
+    ///
+    /// # Errors
+    /// A message if the frame does not match the configuration.
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Self, String> {
+        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+        let (n, m, rx) = (
+            config.adc_samples as usize,
+            edge.fft_len(),
+            config.rx_count(),
+        );
+        let elements = edge.array().elements();
+        let mut arena = vec![0u32; edge.arena_words()];
+        let mut samples = vec![C32::new(0.0, 0.0); elements * n];
+        let mut sum = StaticSum::new(&mut samples, n).map_err(|e| e.to_string())?;
+        let (exponent, peaks) = {
+            let mut frame_sum = edge.start(&mut arena).map_err(|e| e.to_string())?;
+            for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
+                for (r, s) in rows.chunks_exact(n).enumerate() {
+                    edge.push(&mut frame_sum, chirp, r, s)
+                        .map_err(|e| e.to_string())?;
+                    let element = edge
+                        .array()
+                        .element_of((chirp % config.slots()) * rx + r)
+                        .ok_or("channel outside the array")?;
+                    sum.push(element, s).map_err(|e| e.to_string())?;
+                }
+            }
+            let mut row = vec![CQ15::default(); m];
+            let mut az = vec![CQ15::default(); edge.azimuth_len()];
+            let mut powers = vec![0u64; 3 * edge.azimuth_len()];
+            let scene = edge
+                .finish(frame_sum, &mut row, &mut az, &mut powers)
+                .map_err(|e| e.to_string())?;
+            (scene.spectra.exponent(), scene.peaks)
+        };
+        let window: Vec<f32> = (0..n)
+            .map(|i| coefficient_f64(Edge::WINDOW, i, n) as f32)
+            .collect();
+        sum.finish(&window).map_err(|e| e.to_string())?;
+        Ok(Self {
+            edge,
+            arena,
+            exponent,
+            peaks,
+            samples,
+            window,
+        })
+    }
+
+    /// SIC for `hint`, on the module's view of the frame.
+    fn cancel(
+        &mut self,
+        hint: &ObjectHint,
+    ) -> Result<heapless::Vec<Reflector, MAX_REFLECTORS>, String> {
+        let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
+        Ok(self.edge.cancel(&view, hint))
+    }
+
+    /// The depth search for `hint` with `reflectors` cancelled, on the module's view of the frame.
+    fn search(
+        &mut self,
+        hint: &ObjectHint,
+        reflectors: &[Reflector],
+    ) -> Result<ObjectReport, String> {
+        self.search_scored(hint, reflectors).map(|(r, _)| r)
+    }
+
+    /// `Self::search`, also returning the coarse score `P(d)` per range bin (0 outside the
+    /// searched bins).
+    pub fn search_scored(
+        &mut self,
+        hint: &ObjectHint,
+        reflectors: &[Reflector],
+    ) -> Result<(ObjectReport, Vec<f32>), String> {
+        let mut scores = vec![0.0f32; self.edge.fft_len()];
+        let mut view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
+        let report = self
+            .edge
+            .search(&mut view, hint, reflectors, &mut scores)
+            .map_err(|e| e.to_string())?;
+        Ok((report, scores))
+    }
+
+    /// The range–azimuth power map, dB (arbitrary reference), with `reflectors` subtracted:
+    /// one row of range bins `0..bins` per entry of `sin_grid` (row-major). The beams are the
+    /// module's (its fixed-point spectra, its SIC residual). O(grid · bins · E).
+    ///
+    /// # Errors
+    /// A message if the frame's spectra cannot be read back.
+    pub fn range_azimuth_db(
+        &mut self,
+        reflectors: &[Reflector],
+        sin_grid: &[f32],
+        bins: usize,
+    ) -> Result<Vec<f32>, String> {
+        let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
+        let geo = self.edge.geometry();
+        let mut row = vec![C32::new(0.0, 0.0); bins];
+        let mut out = Vec::with_capacity(sin_grid.len() * bins);
+        for &s in sin_grid {
+            row.fill(C32::new(0.0, 0.0));
+            dsp::clutter::sic::Residual::new(&view.spectra, &geo, reflectors, s).fill(0, &mut row);
+            out.extend(row.iter().map(|b| 10.0 * (b.norm_sqr() + 1e-12).log10()));
+        }
+        Ok(out)
+    }
+
+    /// The pipeline.
+    pub fn edge(&self) -> &Edge {
+        &self.edge
+    }
+}
+
+/// The module's view of a frame already finished in `arena` (see [`Scene::resume`]).
+fn resume<'a>(
+    edge: &Edge,
+    arena: &'a mut [u32],
+    exponent: i32,
+    peaks: &heapless::Vec<Peak, MAX_PEAKS>,
+) -> Result<Scene<'a>, String> {
+    Scene::resume(edge, arena, exponent, peaks.clone()).map_err(|e| e.to_string())
+}
+
+/// A frame's moving scene: static clutter removed (mean over loops), then one range spectrum per
+/// Doppler bin and channel; `None` for frames with fewer than [`MIN_DOPPLER_LOOPS`] loops.
+pub struct MovingScene {
+    /// `[doppler][channel][bin]`, Doppler in natural FFT order (bin 0 is empty after clutter removal).
+    spectra: Vec<Vec<C32>>,
+    edge: Edge,
+    /// Position of each channel, half-wavelengths.
+    positions: Vec<f32>,
+    m: usize,
+    rx: usize,
+    slots: usize,
+}
+
+/// Most Doppler aliases tried each way (±`MAX_ALIAS` unambiguous intervals).
+const MAX_ALIAS: i32 = 25;
+
+impl MovingScene {
+    /// The Doppler spectra of the bin holding most energy toward `s_mid` from range bin `first`
+    /// on, compensated for the TDM slot delays with the Doppler alias that makes the virtual
+    /// array most coherent (12-TX TDM leaves ±1.4 m/s unambiguous, so fast movers alias).
+    fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> Vec<C32> {
+        let (m, nd, rx) = (self.m, self.spectra.len(), self.rx);
+        let c = self.positions.len();
+        let steer: Vec<C32> = self
+            .positions
+            .iter()
+            .map(|&p| {
+                let a = -std::f32::consts::PI * p * s_mid;
+                C32::new(a.cos(), a.sin())
+            })
+            .collect();
+        // Doppler bin: energy beamformed within each slot's receivers, summed over slots
+        // (insensitive to the alias).
+        let incoherent = |sp: &[C32]| -> f32 {
+            (first..max_bin)
+                .map(|k| {
+                    (0..self.slots)
+                        .map(|t| {
+                            let z: C32 = (t * rx..(t + 1) * rx)
+                                .map(|ch| sp[ch * m + k] * steer[ch])
+                                .sum();
+                            z.norm_sqr()
+                        })
+                        .sum::<f32>()
+                })
+                .sum()
+        };
+        let q = (1..nd)
+            .max_by(|&a, &b| incoherent(&self.spectra[a]).total_cmp(&incoherent(&self.spectra[b])))
+            .unwrap_or(0);
+        let sp = &self.spectra[q];
+        let qs = dsp::units::signed_bin(q, nd) as f32;
+        let compensation = |alias: i32| -> Vec<C32> {
+            let f = (qs + (alias * nd as i32) as f32) / (nd * self.slots) as f32;
+            (0..c)
+                .map(|ch| {
+                    let a = -2.0 * std::f32::consts::PI * f * (ch / rx) as f32;
+                    C32::new(a.cos(), a.sin())
+                })
+                .collect()
+        };
+        let coherent = |comp: &[C32]| -> f32 {
+            (first..max_bin)
+                .map(|k| {
+                    let z: C32 = (0..c).map(|ch| sp[ch * m + k] * steer[ch] * comp[ch]).sum();
+                    z.norm_sqr()
+                })
+                .sum()
+        };
+        let alias = (-MAX_ALIAS..=MAX_ALIAS)
+            .max_by(|&a, &b| coherent(&compensation(a)).total_cmp(&coherent(&compensation(b))))
+            .unwrap_or(0);
+        let comp = compensation(alias);
+        sp.iter()
+            .enumerate()
+            .map(|(i, &z)| z * comp[i / m])
+            .collect()
+    }
+}
+
+/// Fewest loops for the Doppler path.
+pub const MIN_DOPPLER_LOOPS: u16 = 8;
+
+impl MovingScene {
+    /// Builds the Doppler spectra of the frame through the module's fixed-point cube.
+    ///
+    /// # Errors
+    /// A message if the frame does not match the configuration.
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Option<Self>, String> {
+        if config.chirps_per_tx < MIN_DOPPLER_LOOPS {
+            return Ok(None);
+        }
+        let options = crate::frame::FrameOptions {
+            range_window: WindowKind::Hann,
+            doppler_window: WindowKind::Rectangular,
+            remove_static: true,
+        };
+        let mut proc = crate::frame::FrameProcessor::new(config, options)?;
+        proc.process(frame)?;
+        let (c, m, nd) = (
+            config.channels(),
+            config.range_fft_len(),
+            config.doppler_fft_len(),
+        );
+        let mut spectra = vec![vec![C32::new(0.0, 0.0); c * m]; nd];
+        for k in 0..m {
+            for (ch, (exp, column)) in proc.doppler_spectra(k, true)?.into_iter().enumerate() {
+                let scale = exp.scale_f32();
+                for (s, z) in spectra.iter_mut().zip(&column) {
+                    s[ch * m + k] = C32::new(z.re.to_f32() * scale, z.im.to_f32() * scale);
+                }
+            }
+        }
+        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+        let positions = (0..c)
+            .map(|ch| edge.array().position(ch).unwrap_or(0) as f32)
+            .collect();
+        Ok(Some(Self {
+            spectra,
+            edge,
+            positions,
+            m,
+            rx: config.rx_count(),
+            slots: config.slots(),
+        }))
+    }
+
+    /// The depth search on the Doppler bin holding most energy at the object's azimuth.
+    fn search(&self, hint: &ObjectHint) -> Option<ObjectReport> {
+        let bins = self.edge.bins(hint);
+        let s_mid = (hint.span.0 + hint.span.1) / 2.0;
+        let focused = self.focused(s_mid, bins.0 as usize, bins.1 as usize);
+        let (words, exponent) = pack_elements(&self.edge, &focused, self.m);
+        let spectra =
+            Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
+        let mut profiles = vec![0u32; profile_words(hint.contour.points().len(), self.m)];
+        let mut scores = vec![0.0f32; self.m];
+        let search = coarse_to_fine(
+            &spectra,
+            &self.edge.geometry(),
+            &hint.contour,
+            bins,
+            &[],
+            &mut profiles,
+            &mut scores,
+        )
+        .ok()?;
+        Some(ObjectReport {
+            id: hint.id,
+            class: hint.class,
+            search,
+            cancelled: 0,
+        })
+    }
+}
+
+/// Channel spectra (`channels × m`, `f32`) summed into the array's elements and quantized to
+/// packed Q15 words with one block exponent.
+fn pack_elements(edge: &Edge, channels: &[C32], m: usize) -> (Vec<u32>, i32) {
+    let array = edge.array();
+    let mut sums = vec![C32::new(0.0, 0.0); array.elements() * m];
+    for (ch, row) in channels.chunks_exact(m).enumerate() {
+        if let Some(e) = array.element_of(ch) {
+            for (o, &z) in sums[e * m..(e + 1) * m].iter_mut().zip(row) {
+                *o += z;
+            }
+        }
+    }
+    let peak = sums
+        .iter()
+        .map(|z| z.re.abs().max(z.im.abs()))
+        .fold(0.0f32, f32::max);
+    let exponent = if peak > 0.0 {
+        (peak / 16383.0).log2().ceil() as i32
+    } else {
+        0
+    };
+    let scale = 2f32.powi(-exponent);
+    let mut words = vec![0u32; sums.len()];
+    for (i, z) in sums.iter().enumerate() {
+        let at = Spectra::word_index(i / m, i % m, array.elements());
+        words[at] = dsp::range::frame_sum::pack(CQ15::from_raw(
+            (z.re * scale).round() as i16,
+            (z.im * scale).round() as i16,
+        ));
+    }
+    (words, exponent)
+}
+
+/// The contour of an object: per azimuth bin, the median monocular range of its points;
+/// bins far from the object's near surface (bleed into the background) are dropped.
+pub fn contour(obj: &CameraObject) -> Contour {
+    let mut bins: std::collections::BTreeMap<i64, Vec<f64>> = std::collections::BTreeMap::new();
+    for p in &obj.points {
+        bins.entry((azimuth(p) / AZ_BIN).floor() as i64)
+            .or_default()
+            .push(range_xz(p));
+    }
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let mut cols: Vec<(f64, f64)> = bins
+        .into_iter()
+        .map(|(b, mut v)| ((b as f64 + 0.5) * AZ_BIN, med(&mut v)))
+        .collect();
+    if cols.is_empty() {
+        return Contour::default();
+    }
+    let mut ranges: Vec<f64> = cols.iter().map(|c| c.1).collect();
+    ranges.sort_by(f64::total_cmp);
+    let near = ranges[ranges.len() / 5];
+    cols.retain(|&(_, r)| r >= near - 1.0 && r <= near + 6.0);
+    Contour::new(cols.into_iter().map(|(a, r)| (a.sin() as f32, r as f32)))
+}
+
+/// Keeps depth-image points of azimuth bins holding at least [`EDGE_FRACTION`] of the fullest
+/// bin's count.
+fn reject_edges(points: Vec<Point>) -> Vec<Point> {
+    let mut counts = std::collections::HashMap::new();
+    let bin = |p: &Point| (azimuth(p) / AZ_BIN).floor() as i64;
+    for p in &points {
+        *counts.entry(bin(p)).or_insert(0usize) += 1;
+    }
+    let max = counts.values().copied().max().unwrap_or(0);
+    points
+        .into_iter()
+        .filter(|p| counts[&bin(p)] as f64 >= EDGE_FRACTION * max as f64)
+        .collect()
+}
+
+/// Class code of the telemetry protocol: 1 + the index in the objects of interest, then 64 +
+/// the index in the clutter classes; 0 for anything else.
+pub fn class_code(class: &str) -> u8 {
+    use metamoran_bundle::{CLUTTER_CLASSES, OBJECTS_OF_INTEREST};
+    if let Some(i) = OBJECTS_OF_INTEREST.iter().position(|c| *c == class) {
+        1 + i as u8
+    } else if let Some(i) = CLUTTER_CLASSES.iter().position(|c| *c == class) {
+        64 + i as u8
+    } else {
+        0
+    }
+}
+
+/// The module's hint for `obj` as it arrives over the link ([`Hint::to_object`] of its wire
+/// form): id, class, sin-azimuth span, monocular prior and contour (a flat one across the span
+/// where the mask has no usable depth, e.g. beyond the 256 m a depth PNG holds).
+pub fn hint(obj: &CameraObject) -> Option<ObjectHint> {
+    wire_hint(0, obj).map(|h| h.to_object())
+}
+
+/// The wire form of `obj`'s hint for frame `frame`.
+pub fn wire_hint(frame: u32, obj: &CameraObject) -> Option<Hint> {
+    let (lo, hi) = obj.span?;
+    let mut c = contour(obj);
+    if c.is_empty() {
+        c = Contour::new((0..9).map(|i| ((lo + (hi - lo) * i as f64 / 8.0).sin() as f32, 0.0f32)));
+    }
+    let exact = ObjectHint {
+        id: obj.instance,
+        class: class_code(&obj.class),
+        span: (lo.sin() as f32, hi.sin() as f32),
+        prior_m: obj.closest_range().unwrap_or(0.0) as f32,
+        contour: c,
+    };
+    Some(Hint::from_object(frame, &exact))
+}
+
+/// An object's search problem after clutter cancellation: what both searches run on.
+pub struct Prepared {
+    /// The module's hint.
+    pub hint: ObjectHint,
+    /// What SIC cancelled.
+    pub reflectors: heapless::Vec<Reflector, MAX_REFLECTORS>,
+    /// First and last range bin searched.
+    pub bins: (f32, f32),
+}
+
+/// Builds the hint and cancels clutter outside the object's span.
+pub fn prepare(scene: &mut StaticScene, obj: &CameraObject) -> Option<Prepared> {
+    let hint = hint(obj)?;
+    let reflectors = scene.cancel(&hint).ok()?;
+    Some(Prepared {
+        bins: scene.edge.bins(&hint),
+        hint,
+        reflectors,
+    })
+}
+
+/// The production search on a prepared object (the module's code).
+///
+/// # Errors
+/// A message if the search cannot run.
+pub fn fast_search(scene: &mut StaticScene, p: &Prepared) -> Result<ObjectReport, String> {
+    scene.search(&p.hint, &p.reflectors)
+}
+
+/// Both searches on a prepared object: (production coarse-to-fine, brute-force reference on the
+/// `f32` sums with the same reflectors subtracted in the time domain).
+///
+/// # Errors
+/// A message if a search cannot run.
+pub fn both_searches(
+    scene: &mut StaticScene,
+    p: &Prepared,
+) -> Result<(SearchResult, SearchResult), String> {
+    let fast = fast_search(scene, p)?.search;
+    let geo = scene.edge.geometry();
+    let mut samples = scene.samples.clone();
+    for r in &p.reflectors {
+        r.subtract_from(&mut samples, &geo, &scene.window, scene.exponent);
+    }
+    let contour = scene.edge.contour(&p.hint);
+    let reference = brute_force(&samples, &geo, &contour, p.bins).map_err(|e| e.to_string())?;
+    Ok((fast, reference))
+}
+
+/// The Metamoran estimate for one object of a frame: the module's static search after
+/// clutter cancellation, in process (see [`merge`]).
+pub fn estimate(
+    scene: &mut StaticScene,
+    moving: Option<&MovingScene>,
+    obj: &CameraObject,
+) -> ObjectResult {
+    let Some(p) = prepare(scene, obj) else {
+        return ObjectResult::missed(obj);
+    };
+    let on_module = fast_search(scene, &p)
+        .ok()
+        .map(|r| WireResult::from_report(&p.hint, &r));
+    merge(obj, &p.hint, on_module, moving)
+}
+
+/// Combines the module's answer for `obj` (in process or from the edge; `hint` as the module
+/// received it) with the host's search
+/// on the Doppler bin holding most of the energy at the object's azimuth, where the frame has
+/// Doppler: the more confident of the two wins (confidence as the module reports it, so both
+/// edges give the same bits).
+pub fn merge(
+    obj: &CameraObject,
+    hint: &ObjectHint,
+    on_module: Option<WireResult>,
+    moving: Option<&MovingScene>,
+) -> ObjectResult {
+    let mut best = on_module;
+    if let Some(found) = moving
+        .and_then(|mv| mv.search(hint))
+        .map(|r| WireResult::from_report(hint, &r))
+    {
+        if best.is_none_or(|b| found.confidence > b.confidence) {
+            best = Some(found);
+        }
+    }
+    match best {
+        Some(r) if r.detected() => {
+            let depth = r.depth_m();
+            let points = reject_edges(obj.anchored(depth));
+            ObjectResult {
+                confidence_db: Some(r.confidence as f64 / 4.0),
+                ..ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+            }
+        }
+        _ => ObjectResult::missed(obj),
+    }
+}

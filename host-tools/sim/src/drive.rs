@@ -1,0 +1,328 @@
+//! The `drive` preset (dense radar mapping): a vehicle with the radar on its front bumper drives
+//! down a street of walls, poles and parked cars at varying speed and turn rate, with other cars
+//! moving (outliers for ego-motion). The world frame is the radar frame of frame 0; each frame
+//! the world is moved into the radar's frame and given the velocity it has relative to the
+//! radar, so the signal model sees the ego-motion as Doppler.
+
+use super::object::{self, GROUND_Y, Scatterer, SceneObject};
+use super::shape::Shape;
+use dsp::ego::{Mount, VehicleMotion};
+pub use metamoran_bundle::pose::Pose;
+use rand::Rng;
+use std::f64::consts::{PI, TAU};
+
+/// Frames of a drive scene.
+pub const FRAMES: u16 = 20;
+/// Time between frames, s (10 Hz, as the paper's radar).
+pub const FRAME_PERIOD_S: f64 = 0.1;
+/// Where the radar sits: 3.7 m ahead of the rear axle on the centre line, looking forward.
+pub const MOUNT: Mount = Mount {
+    forward_m: 3.7,
+    left_m: 0.0,
+    yaw_rad: 0.0,
+};
+
+/// The vehicle's motion over time: speed and yaw rate as slow sinusoids.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drive {
+    /// Mean speed, m/s.
+    pub speed: f64,
+    /// Speed swing, m/s, and its period, s.
+    pub speed_swing: (f64, f64),
+    /// Yaw-rate amplitude, rad/s, and its period, s.
+    pub turn: (f64, f64),
+    /// Phases of the two sinusoids, rad.
+    pub phases: (f64, f64),
+}
+
+impl Drive {
+    /// Draws a drive: 3–8 m/s, ±0.5–1.5 m/s, yaw rate up to ±0.05–0.2 rad/s.
+    pub fn draw(rng: &mut impl Rng) -> Self {
+        Self {
+            speed: rng.random_range(3.0..8.0),
+            speed_swing: (rng.random_range(0.5..1.5), rng.random_range(1.5..4.0)),
+            turn: (rng.random_range(0.05..0.2), rng.random_range(1.5..4.0)),
+            phases: (rng.random_range(0.0..TAU), rng.random_range(0.0..TAU)),
+        }
+    }
+
+    /// Speed (rear axle) and yaw rate at time `t`.
+    pub fn motion(&self, t: f64) -> VehicleMotion {
+        VehicleMotion {
+            speed_mps: (self.speed
+                + self.speed_swing.0 * (TAU * t / self.speed_swing.1 + self.phases.0).sin())
+                as f32,
+            yaw_rate_rps: (self.turn.0 * (TAU * t / self.turn.1 + self.phases.1).sin()) as f32,
+        }
+    }
+
+    /// The radar's pose and world velocity at each frame, integrating the rear axle's motion in
+    /// 1 ms steps (the radar is at the world origin, facing +z, at t = 0).
+    pub fn poses(&self, frames: u16, period: f64) -> Vec<(Pose, [f64; 2])> {
+        const DT: f64 = 1e-3;
+        let l = f64::from(MOUNT.forward_m);
+        // Rear axle, heading +z.
+        let (mut x, mut z, mut yaw) = (0.0, -l, 0.0);
+        let mut out = Vec::new();
+        let mut t = 0.0;
+        for f in 0..frames {
+            let due = f64::from(f) * period;
+            while t + DT / 2.0 < due {
+                let m = self.motion(t + DT / 2.0);
+                let (v, w) = (f64::from(m.speed_mps), f64::from(m.yaw_rate_rps));
+                let mid = yaw + w * DT / 2.0;
+                x -= v * mid.sin() * DT;
+                z += v * mid.cos() * DT;
+                yaw += w * DT;
+                t += DT;
+            }
+            let pose_axle = Pose {
+                position: [x, z],
+                yaw,
+            };
+            let (fwd, right) = pose_axle.axes();
+            let pose = Pose {
+                position: [x + l * fwd[0], z + l * fwd[1]],
+                yaw,
+            };
+            // The radar's velocity in its frame (Ackermann), then in the world.
+            let v = MOUNT.radar_velocity(self.motion(t));
+            let (vx, vz) = (f64::from(v[0]), f64::from(v[1]));
+            let world = [vx * right[0] + vz * fwd[0], vx * right[1] + vz * fwd[1]];
+            out.push((pose, world));
+        }
+        out
+    }
+}
+
+/// A street wall: diffuse points every 0.5 m along it at heights from the ground to 3 m.
+fn wall_points(rng: &mut impl Rng, a: [f64; 2], b: [f64; 2]) -> Vec<Scatterer> {
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let n = (len / 0.5) as usize;
+    (0..=n)
+        .map(|i| {
+            let s = i as f64 / n.max(1) as f64;
+            Scatterer {
+                position: nalgebra::Vector3::new(
+                    a[0] + s * (b[0] - a[0]),
+                    GROUND_Y - rng.random_range(0.2..3.0),
+                    a[1] + s * (b[1] - a[1]),
+                ),
+                rcs: rng.random_range(0.3..1.5),
+                phase: rng.random_range(0.0..TAU),
+            }
+        })
+        .collect()
+}
+
+/// The street in the world frame: walls on both sides (a tunnel when the street is narrow),
+/// poles and parked cars along them, and 1–3 moving cars.
+pub fn street(rng: &mut impl Rng) -> Vec<SceneObject> {
+    let mut objects: Vec<SceneObject> = Vec::new();
+    let mut push = |class: &'static str, shape: Shape, velocity, scatterers: Vec<Scatterer>| {
+        let id = objects.len() as u16 + 1;
+        objects.push(SceneObject {
+            id,
+            class,
+            shape,
+            velocity,
+            scatterers,
+        });
+    };
+    let (left, right) = (-rng.random_range(5.5..9.0), rng.random_range(5.5..9.0));
+    for x in [left, right] {
+        let (a, b) = ([x, -5.0], [x, 90.0]);
+        let pts = wall_points(rng, a, b);
+        let shape = Shape::Panel {
+            a,
+            b,
+            y_top: GROUND_Y - 3.0,
+            y_bottom: GROUND_Y,
+        };
+        push("wall", shape, [0.0; 2], pts);
+    }
+    for x in [left + 0.8, right - 0.8] {
+        let mut z = rng.random_range(3.0..10.0);
+        while z < 85.0 {
+            let shape = Shape::Cylinder {
+                centre: [x, z],
+                radius: 0.12,
+                y_top: GROUND_Y - 6.0,
+                y_bottom: GROUND_Y,
+            };
+            let pts = vec![Scatterer {
+                position: nalgebra::Vector3::new(x, GROUND_Y - rng.random_range(0.5..2.5), z),
+                rcs: rng.random_range(3.0..15.0),
+                phase: rng.random_range(0.0..TAU),
+            }];
+            push("pole", shape, [0.0; 2], pts);
+            z += rng.random_range(8.0..16.0);
+        }
+    }
+    let car = |rng: &mut dyn rand::RngCore, centre: [f64; 2], heading: f64| Shape::Box {
+        centre,
+        half_length: 2.2 + 0.2 * (rng.next_u32() as f64 / f64::from(u32::MAX)),
+        half_width: 0.9,
+        heading,
+        y_top: GROUND_Y - 1.5,
+        y_bottom: GROUND_Y,
+    };
+    for x in [left + 2.0, right - 2.0] {
+        let mut z = rng.random_range(5.0..20.0);
+        while z < 80.0 {
+            let shape = car(rng, [x, z], 0.0);
+            let pts = object::vehicle(rng, &shape);
+            push("vehicle_parked", shape, [0.0; 2], pts);
+            z += rng.random_range(8.0..25.0);
+        }
+    }
+    // Traffic: oncoming on the left of the centre line, or ahead in the same lane.
+    for k in 0..rng.random_range(1..=3) {
+        let oncoming = k % 2 == 0;
+        let (x, v) = if oncoming {
+            (-2.0, -rng.random_range(4.0..9.0))
+        } else {
+            (1.0, rng.random_range(2.0..6.0))
+        };
+        let z = rng.random_range(20.0..60.0);
+        let shape = car(rng, [x, z], 0.0);
+        let mut pts = object::vehicle(rng, &shape);
+        object::random_phases(rng, &mut pts);
+        push("car", shape, [0.0, v], pts);
+    }
+    objects
+}
+
+/// Ground scatterers along the street (world frame).
+pub fn ground(rng: &mut impl Rng, half_width: f64) -> Vec<Scatterer> {
+    (0..400)
+        .map(|_| Scatterer {
+            position: nalgebra::Vector3::new(
+                rng.random_range(-half_width..half_width),
+                GROUND_Y,
+                rng.random_range(2.0..90.0),
+            ),
+            rcs: 0.02 * rng.random_range(0.2..1.8),
+            phase: rng.random_range(0.0..PI * 2.0),
+        })
+        .collect()
+}
+
+/// `o` in the radar frame of `pose`, moving relative to a radar with world velocity `radar_v`.
+pub fn in_radar_frame(o: &SceneObject, pose: &Pose, radar_v: [f64; 2]) -> SceneObject {
+    // Moving objects first move in the world (their `velocity` is world, m/s, at t = 0 they are
+    // where the layout put them); the caller passes them already moved.
+    let map = |p: [f64; 2]| pose.to_radar(p);
+    let shape = match o.shape.clone() {
+        Shape::Box {
+            centre,
+            half_length,
+            half_width,
+            heading,
+            y_top,
+            y_bottom,
+        } => Shape::Box {
+            centre: map(centre),
+            half_length,
+            half_width,
+            heading: heading + pose.yaw,
+            y_top,
+            y_bottom,
+        },
+        Shape::Cylinder {
+            centre,
+            radius,
+            y_top,
+            y_bottom,
+        } => Shape::Cylinder {
+            centre: map(centre),
+            radius,
+            y_top,
+            y_bottom,
+        },
+        Shape::Panel {
+            a,
+            b,
+            y_top,
+            y_bottom,
+        } => Shape::Panel {
+            a: map(a),
+            b: map(b),
+            y_top,
+            y_bottom,
+        },
+    };
+    let scatterers = o
+        .scatterers
+        .iter()
+        .map(|s| {
+            let p = map([s.position.x, s.position.z]);
+            Scatterer {
+                position: nalgebra::Vector3::new(p[0], s.position.y, p[1]),
+                ..*s
+            }
+        })
+        .collect();
+    let rel = [o.velocity[0] - radar_v[0], o.velocity[1] - radar_v[1]];
+    SceneObject {
+        id: o.id,
+        class: o.class,
+        shape,
+        velocity: pose.rotate_to_radar(rel),
+        scatterers,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poses_follow_the_integrated_motion() {
+        // Straight at constant speed: the radar moves along +z at that speed.
+        let d = Drive {
+            speed: 5.0,
+            speed_swing: (0.0, 1.0),
+            turn: (0.0, 1.0),
+            phases: (0.0, 0.0),
+        };
+        let p = d.poses(11, 0.1);
+        assert!((p[10].0.position[1] - 5.0).abs() < 1e-9 && p[10].0.position[0].abs() < 1e-12);
+        assert_eq!(p[10].1, [0.0, 5.0]);
+        // A constant left turn: the axle runs on a circle of radius v/ω; heading = ω t.
+        let d = Drive {
+            speed: 5.0,
+            speed_swing: (0.0, 1.0),
+            turn: (0.2, 1e9),
+            phases: (0.0, PI / 2.0),
+        };
+        let p = d.poses(21, 0.1);
+        let (pose, v) = p[20];
+        assert!((pose.yaw - 0.4).abs() < 1e-6, "{pose:?}");
+        // Axle position on the circle (closed form), then the 3.7 m lever to the radar.
+        let r = 25.0;
+        let axle = [-(r - r * 0.4f64.cos()), -3.7 + r * 0.4f64.sin()];
+        let (fwd, right) = pose.axes();
+        let radar = [axle[0] + 3.7 * fwd[0], axle[1] + 3.7 * fwd[1]];
+        assert!(
+            (pose.position[0] - radar[0]).abs() < 1e-4
+                && (pose.position[1] - radar[1]).abs() < 1e-4
+        );
+        // Its velocity: 5 m/s forward and ω·L = 0.74 m/s to the left.
+        let want = [
+            5.0 * fwd[0] - 0.74 * right[0],
+            5.0 * fwd[1] - 0.74 * right[1],
+        ];
+        assert!(
+            (v[0] - want[0]).abs() < 1e-5 && (v[1] - want[1]).abs() < 1e-5,
+            "{v:?} {want:?}"
+        );
+        // And a world point ahead is ahead in the radar frame.
+        let ahead = [
+            pose.position[0] + 10.0 * fwd[0],
+            pose.position[1] + 10.0 * fwd[1],
+        ];
+        let q = pose.to_radar(ahead);
+        assert!(q[0].abs() < 1e-9 && (q[1] - 10.0).abs() < 1e-9);
+    }
+}

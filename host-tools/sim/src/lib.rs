@@ -1,0 +1,355 @@
+//! The scene simulator behind `metamoran simulate`: layouts → scatterers → FMCW samples and
+//! camera products → bundles (bundle.md), with ground truth.
+//!
+//! * [`layout`]: presets and where things go; [`object`] and [`shape`]: what they are;
+//! * [`signal`]: the radar signal model; [`camera`]: rendering and the monocular model;
+//! * [`radar`]: the simulated boards; [`writer`]: the bundle files.
+
+pub mod camera;
+pub mod drive;
+pub mod layout;
+pub mod motion;
+pub mod object;
+pub mod radar;
+pub mod shape;
+pub mod signal;
+pub mod writer;
+
+use layout::Preset;
+use metamoran_bundle::geometry::CameraModel;
+use metamoran_bundle::{CameraConfig, Ego, Instance, Truth, TruthFrame, TruthObject};
+use object::{GROUND_Y, Scatterer};
+use radar::RadarKind;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use shape::Shape;
+use std::path::{Path, PathBuf};
+
+/// The simulated camera: 640 × 360, 65° horizontal field of view, 15 cm above the radar.
+pub fn camera_config() -> CameraConfig {
+    CameraConfig {
+        width: 640,
+        height: 360,
+        fx: 500.0,
+        fy: 500.0,
+        cx: 320.0,
+        cy: 180.0,
+        translation_m: [0.0, -0.15, 0.0],
+        yaw_deg: 0.0,
+        pitch_deg: 0.0,
+        roll_deg: 0.0,
+    }
+}
+
+/// Diffuse ground clutter: random scatterers on the ground plane inside the radar's view.
+fn ground(rng: &mut impl Rng, max_range: f64) -> Vec<Scatterer> {
+    const POINTS: usize = 300;
+    let area = std::f64::consts::PI / 3.0 * max_range * max_range / POINTS as f64;
+    (0..POINTS)
+        .map(|_| {
+            let r = max_range * rng.random_range(0.0f64..1.0).sqrt().max(0.03);
+            let az = rng.random_range(-60f64..60.0).to_radians();
+            Scatterer {
+                position: nalgebra::Vector3::new(r * az.sin(), GROUND_Y, r * az.cos()),
+                rcs: 0.003 * area * rng.random_range(0.2..1.8),
+                phase: rng.random_range(0.0..std::f64::consts::TAU),
+            }
+        })
+        .collect()
+}
+
+/// One scene's seed from the run seed and the scene index (SplitMix64).
+fn scene_seed(seed: u64, index: u64) -> u64 {
+    let mut z = seed ^ index.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// What the camera saw in one frame.
+pub struct Shot {
+    /// The rendered truth (ids and camera depth per pixel).
+    pub render: camera::Render,
+    /// Segmenter and monocular-depth outputs.
+    pub products: camera::CameraProducts,
+    /// The instances the segmenter saw.
+    pub instances: Vec<Instance>,
+}
+
+/// A simulated scene, in memory.
+pub struct SimulatedScene {
+    /// The objects as at the first frame (ids as in the camera products).
+    pub objects: Vec<object::SceneObject>,
+    /// Radar configuration (its `frames` and `frame_period_s` say how many and how often).
+    pub radar: dsp::config::RadarConfig,
+    /// Camera configuration.
+    pub camera: CameraConfig,
+    /// `radar.bin` bytes, every frame.
+    pub adc: Vec<u8>,
+    /// Elevation of each TX, half-wavelengths (empty: all 0).
+    pub tx_elevation: Vec<i16>,
+    /// The camera products of every frame.
+    pub shots: Vec<Shot>,
+    /// The lidar-like truth of every frame (drive preset; empty otherwise).
+    pub lidar: Vec<Vec<[f64; 3]>>,
+    /// Ground truth, every frame.
+    pub truth: Truth,
+}
+
+/// Simulates scene `index` of a run with seed `seed`: every frame of its layout (one, except
+/// for the perimeter preset), objects moved along their paths or velocities between frames.
+pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
+    let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
+    if preset == Preset::Drive {
+        return drive_scene(&mut rng);
+    }
+    let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
+    let loops = if preset == Preset::Moving { 16 } else { 2 };
+    let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
+    config.frames = u32::from(layout.frames);
+    config.frame_period_s = layout.frame_period_s;
+    let extra = ground(&mut rng, config.max_range().0 as f64);
+    let camera = camera_config();
+    let model = CameraModel::new(&camera);
+    let mut adc = Vec::new();
+    let mut shots = Vec::new();
+    let mut frames = Vec::new();
+    for f in 0..layout.frames {
+        let t = f64::from(f) * layout.frame_period_s;
+        let objects = motion::at(&layout.objects, &layout.paths, t);
+        let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
+        adc.extend(signal::synthesize(&config, &echoes, &[], &mut rng));
+        let (shot, truth_objects) = film(&objects, &model, &camera, &mut rng);
+        frames.push(TruthFrame {
+            frame: u32::from(f),
+            ego: Ego {
+                x: 0.0,
+                z: 0.0,
+                yaw: 0.0,
+                vx: 0.0,
+                vz: 0.0,
+            },
+            objects: truth_objects,
+        });
+        shots.push(shot);
+    }
+    SimulatedScene {
+        objects: layout.objects,
+        radar: config,
+        camera,
+        adc,
+        tx_elevation: Vec::new(),
+        shots,
+        lidar: Vec::new(),
+        truth: Truth { frames },
+    }
+}
+
+/// What the camera makes of `objects` (radar frame), and the truth of the objects of interest.
+fn film(
+    objects: &[object::SceneObject],
+    model: &CameraModel,
+    camera: &CameraConfig,
+    rng: &mut impl Rng,
+) -> (Shot, Vec<TruthObject>) {
+    let render = camera::render(model, objects);
+    let products = camera::products(&render, camera.width, camera.height, rng);
+    let visible: std::collections::BTreeSet<u16> =
+        products.mask.iter().copied().filter(|&i| i != 0).collect();
+    let seen = |o: &&object::SceneObject| visible.contains(&o.id);
+    let instances = objects
+        .iter()
+        .filter(seen)
+        .map(|o| Instance {
+            id: o.id,
+            class: o.class.to_owned(),
+        })
+        .collect();
+    let truth_objects = objects
+        .iter()
+        .filter(|o| seen(o) && matches!(o.class, "car" | "person" | "sign"))
+        .map(|o| truth_object(o, &render, model, camera))
+        .collect();
+    let shot = Shot {
+        render,
+        products,
+        instances,
+    };
+    (shot, truth_objects)
+}
+
+/// The drive preset: the street moved into the radar's frame at each frame's pose.
+fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
+    let (mut config, tx_elevation) = radar::drive_config();
+    config.frames = u32::from(drive::FRAMES);
+    config.frame_period_s = drive::FRAME_PERIOD_S;
+    let world = drive::street(rng);
+    let ground = drive::ground(rng, 9.0);
+    let plan = drive::Drive::draw(rng);
+    let poses = plan.poses(drive::FRAMES, drive::FRAME_PERIOD_S);
+    let camera = camera_config();
+    let model = CameraModel::new(&camera);
+    let elevation: Vec<i16> = (0..config.channels())
+        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
+        .collect();
+    let mut adc = Vec::new();
+    let mut shots = Vec::new();
+    let mut lidar = Vec::new();
+    let mut frames = Vec::new();
+    for (f, (pose, radar_v)) in poses.iter().enumerate() {
+        let t = f as f64 * drive::FRAME_PERIOD_S;
+        let moved = motion::at(&world, &[], t);
+        let objects: Vec<_> = moved
+            .iter()
+            .map(|o| drive::in_radar_frame(o, pose, *radar_v))
+            .collect();
+        // The ground moves like any static object: relative to the radar.
+        let ground_object = object::SceneObject {
+            id: 0,
+            class: "ground",
+            shape: Shape::Panel {
+                a: [0.0; 2],
+                b: [0.0; 2],
+                y_top: GROUND_Y,
+                y_bottom: GROUND_Y,
+            },
+            velocity: [0.0; 2],
+            scatterers: ground.clone(),
+        };
+        let ground_here = drive::in_radar_frame(&ground_object, pose, *radar_v);
+        let mut all = objects.clone();
+        all.push(ground_here);
+        let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
+        adc.extend(signal::synthesize(&config, &echoes, &elevation, rng));
+        let (shot, truth_objects) = film(&objects, &model, &camera, rng);
+        lidar.push(metamoran_bundle::lidar::scan(|d| {
+            let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
+            let origin = nalgebra::Vector3::zeros();
+            let ground = (d[1] > 1e-9).then(|| GROUND_Y / d[1]);
+            objects
+                .iter()
+                .filter_map(|o| o.shape.intersect(&origin, &dir))
+                .chain(ground)
+                .min_by(f64::total_cmp)
+        }));
+        frames.push(TruthFrame {
+            frame: f as u32,
+            ego: Ego {
+                x: pose.position[0],
+                z: pose.position[1],
+                yaw: pose.yaw,
+                vx: radar_v[0],
+                vz: radar_v[1],
+            },
+            objects: truth_objects,
+        });
+        shots.push(shot);
+    }
+    SimulatedScene {
+        objects: world,
+        radar: config,
+        camera,
+        adc,
+        tx_elevation,
+        shots,
+        lidar,
+        truth: Truth { frames },
+    }
+}
+
+/// Elevation beam (1σ) of the drive preset's board, degrees: wide, to see walls and poles.
+pub const DRIVE_ELEVATION_BEAM_DEG: f64 = 15.0;
+
+/// Truth of one object: depth of its closest footprint point, azimuth and radial velocity of
+/// its centre, and a lidar-like sample of its visible surface (from the rendered pixels).
+fn truth_object(
+    o: &object::SceneObject,
+    render: &camera::Render,
+    model: &CameraModel,
+    camera: &CameraConfig,
+) -> TruthObject {
+    let c = o.shape.closest_point();
+    let centre = o.centre();
+    let pixels: Vec<usize> = (0..render.ids.len())
+        .filter(|&i| render.ids[i] == o.id)
+        .collect();
+    let step = pixels.len().div_ceil(1500).max(1);
+    let mm = |v: f64| (v * 1000.0).round() / 1000.0;
+    let points = pixels
+        .iter()
+        .step_by(step)
+        .map(|&i| {
+            let (u, v) = (
+                (i % camera.width as usize) as u32,
+                (i / camera.width as usize) as u32,
+            );
+            let p = model.back_project(u, v, render.depth[i]);
+            [mm(p.x), mm(p.y), mm(p.z)]
+        })
+        .collect();
+    TruthObject {
+        instance: o.id,
+        class: o.class.to_owned(),
+        depth_m: c[0].hypot(c[1]),
+        azimuth_deg: centre[0].atan2(centre[1]).to_degrees(),
+        radial_velocity_mps: o.radial_velocity(&nalgebra::Vector3::new(centre[0], 0.0, centre[1])),
+        points,
+    }
+}
+
+/// Simulates scene `index` of a run and writes it into `dir`.
+///
+/// # Errors
+/// A message naming the file that could not be written.
+pub fn simulate_one(
+    preset: Preset,
+    kind: RadarKind,
+    seed: u64,
+    index: u64,
+    dir: &Path,
+) -> Result<(), String> {
+    let s = simulate_scene(preset, kind, seed, index);
+    let name = dir
+        .file_name()
+        .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
+    writer::write(
+        dir,
+        &writer::BundleContents {
+            name: &name,
+            radar: &s.radar,
+            camera: &s.camera,
+            adc: &s.adc,
+            tx_elevation: &s.tx_elevation,
+            shots: &s.shots,
+            lidar: &s.lidar,
+            truth: &s.truth,
+        },
+    )
+}
+
+/// Simulates `count` scenes in parallel into `out/<preset>-<seed>-<index>`; returns the folders.
+/// `done` is called (from any thread) as each scene is written, for a progress bar.
+///
+/// # Errors
+/// The first scene that could not be written.
+pub fn simulate(
+    preset: Preset,
+    kind: RadarKind,
+    seed: u64,
+    count: u64,
+    out: &Path,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(out)
+        .map_err(|e| format!("{}: cannot create the folder ({e})", out.display()))?;
+    let dirs: Vec<PathBuf> = (0..count)
+        .map(|k| out.join(format!("{}-{seed}-{k:04}", preset.name())))
+        .collect();
+    dirs.par_iter().enumerate().try_for_each(|(k, dir)| {
+        let r = simulate_one(preset, kind, seed, k as u64, dir);
+        done();
+        r
+    })?;
+    Ok(dirs)
+}

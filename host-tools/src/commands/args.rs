@@ -1,0 +1,177 @@
+//! Options several commands share, and the command-line names of library enums (the libraries
+//! do not depend on clap).
+
+use clap::ValueEnum;
+use dsp::capture::IqOrder;
+use metamoran_bundle::{CameraModels, OpenOptions};
+use std::path::PathBuf;
+
+/// I/Q order of a capture's samples.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum IqArg {
+    /// I[2k], I[2k+1], Q[2k], Q[2k+1] (the bundle format's order)
+    Iiqq,
+    /// Q[2k], Q[2k+1], I[2k], I[2k+1] (devices with adcbufCfg sample swap)
+    Qqii,
+}
+
+impl From<IqArg> for IqOrder {
+    fn from(a: IqArg) -> Self {
+        match a {
+            IqArg::Iiqq => IqOrder::Iiqq,
+            IqArg::Qqii => IqOrder::Qqii,
+        }
+    }
+}
+
+/// A processing method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Camera-guided shape correlation with clutter cancellation, then depth imaging.
+    Metamoran,
+    /// Strongest range–azimuth reflector inside the mask's azimuth span.
+    Naive,
+    /// The closest masked monocular depth point.
+    Monocular,
+}
+
+impl From<ModeArg> for metamoran_process::Mode {
+    fn from(a: ModeArg) -> Self {
+        match a {
+            ModeArg::Metamoran => Self::Metamoran,
+            ModeArg::Naive => Self::Naive,
+            ModeArg::Monocular => Self::Monocular,
+        }
+    }
+}
+
+/// A scene preset of the simulator.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PresetArg {
+    /// Static, cluttered parking lot; cars, people and signs at 3–60 m.
+    ParkingLot,
+    /// Static cars at 10–90 m among clutter.
+    LongRange,
+    /// Moving car, person or sign at 20–300 m among static clutter.
+    Moving,
+    /// A perimeter over 22 frames: a parked car and a person walking into a zone and out (the
+    /// demo scene).
+    Perimeter,
+    /// The radar on a vehicle driving down a street, 20 frames at 10 Hz, with an elevated TX:
+    /// dense radar mapping's scenes.
+    Drive,
+}
+
+impl From<PresetArg> for metamoran_sim::layout::Preset {
+    fn from(a: PresetArg) -> Self {
+        match a {
+            PresetArg::ParkingLot => Self::ParkingLot,
+            PresetArg::LongRange => Self::LongRange,
+            PresetArg::Moving => Self::Moving,
+            PresetArg::Perimeter => Self::Perimeter,
+            PresetArg::Drive => Self::Drive,
+        }
+    }
+}
+
+/// A simulated radar board.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum RadarArg {
+    /// xWR18xx-like: 2 TX × 4 RX, 8 virtual elements, 256 samples.
+    Xwr18xx,
+    /// Cascade-like (MMWCAS): 12 TX × 16 RX, 86 distinct virtual elements, 512 samples.
+    Cascade,
+}
+
+impl From<RadarArg> for metamoran_sim::radar::RadarKind {
+    fn from(a: RadarArg) -> Self {
+        match a {
+            RadarArg::Xwr18xx => Self::Xwr18xx,
+            RadarArg::Cascade => Self::Cascade,
+        }
+    }
+}
+
+/// Camera models that compute a bundle's products from `camera/F_image.png`.
+#[derive(clap::Args, Debug)]
+pub struct ModelArgs {
+    /// ONNX semantic segmenter: input [1,3,H,W] RGB 0..1, output [1,C,H,W] class scores,
+    /// labels in its metadata 'labels' or MODEL.labels; replaces F_mask.png and
+    /// F_instances.json (connected regions of each class). Needs a build with --features onnx.
+    #[arg(long, value_name = "MODEL.onnx")]
+    pub segmenter: Option<PathBuf>,
+    /// ONNX monocular depth network: input [1,3,H,W] RGB 0..1, output [1,1,H,W] metres along
+    /// z; replaces F_depth.png. Needs a build with --features onnx.
+    #[arg(long, value_name = "MODEL.onnx")]
+    pub depth_model: Option<PathBuf>,
+}
+
+/// How to read a bundle: the I/Q order and the camera models.
+#[derive(clap::Args, Debug)]
+pub struct BundleArgs {
+    /// I/Q order of radar.bin.
+    #[arg(long, value_enum, default_value = "iiqq")]
+    pub iq_order: IqArg,
+    #[command(flatten)]
+    pub models: ModelArgs,
+}
+
+impl BundleArgs {
+    /// Bundle options with these models loaded.
+    ///
+    /// # Errors
+    /// A model that cannot be loaded.
+    pub fn options(&self) -> Result<OpenOptions, String> {
+        Ok(OpenOptions {
+            iq_order: self.iq_order.into(),
+            camera_models: CameraModels::load(
+                self.models.segmenter.as_deref(),
+                self.models.depth_model.as_deref(),
+            )?,
+        })
+    }
+}
+
+/// Where the data and the firmware are, for a `metamoran` run outside a checkout.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Locations {
+    /// The shared data folder (real captures); default: `shared/` beside the checkout this is
+    /// run from.
+    #[arg(long, global = true, env = "METAMORAN_SHARED", value_name = "DIR")]
+    pub shared: Option<PathBuf>,
+    /// The firmware's Cargo workspace, built for QEMU runs; default: `firmware/` of the checkout
+    /// this is run from.
+    #[arg(long, global = true, env = "METAMORAN_FIRMWARE", value_name = "DIR")]
+    pub firmware: Option<PathBuf>,
+}
+
+impl Locations {
+    /// The shared data folder: `--shared`, else the first `shared/` beside the current folder
+    /// or one of its parents.
+    ///
+    /// # Errors
+    /// Neither found.
+    pub fn shared(&self) -> Result<PathBuf, String> {
+        self.shared
+            .clone()
+            .or_else(metamoran::find_shared)
+            .ok_or_else(|| {
+                "the shared data folder was not found: give --shared DIR or set METAMORAN_SHARED"
+                    .to_owned()
+            })
+    }
+
+    /// The firmware workspace: `--firmware`, else `firmware/` of the checkout.
+    ///
+    /// # Errors
+    /// Neither found.
+    pub fn firmware(&self) -> Result<PathBuf, String> {
+        self.firmware
+            .clone()
+            .or_else(metamoran_edge::qemu::find_firmware)
+            .ok_or_else(|| {
+                "the firmware sources were not found: give --firmware DIR (the firmware/ folder of a Metamoran checkout) or set METAMORAN_FIRMWARE"
+                    .to_owned()
+            })
+    }
+}

@@ -1,0 +1,80 @@
+//! `metamoran bench`: benchmarks, reported as ratios against baselines measured in the same run.
+
+use super::args::Locations;
+use metamoran::bench;
+
+/// Benchmarks, reported as ratios against baselines measured in the same run.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    what: What,
+}
+
+/// The benchmarks.
+#[derive(clap::Subcommand, Debug)]
+enum What {
+    /// FFT speed on this host and SQNR at -12/-40 dBFS: ours (Q15, Q31) vs microfft, rustfft, CMSIS-DSP.
+    #[command(after_help = "Example:\n  metamoran bench fft --json")]
+    Fft {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// FFT lengths.
+        #[arg(long, value_delimiter = ',', default_value = "256,1024")]
+        sizes: Vec<usize>,
+    },
+    /// 3D-RadarHR's time per drive submap against IP-Basic's, and the map path's frame rate
+    /// (needs a build with --features onnx).
+    #[command(
+        after_help = "Example:\n  cargo run --release -p metamoran --features onnx -- bench network"
+    )]
+    Network {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
+    #[command(after_help = "Example:\n  metamoran bench search --json")]
+    Search {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The module's budgets on the release firmware: flash, RAM, stack, instructions per
+    /// cascade-86 frame with 4 objects under QEMU -icount, telemetry bytes.
+    #[command(after_help = "Example:\n  metamoran bench m7 --json")]
+    M7 {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// FFT instruction counts on the Cortex-M7 under QEMU (-icount), vs CMSIS-DSP's published counts.
+    #[command(
+        name = "fft-m7",
+        after_help = "Example:\n  metamoran bench fft-m7 --json"
+    )]
+    FftM7 {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Runs `metamoran bench …`.
+///
+/// # Errors
+/// A bad size, a missing firmware, QEMU or model, or a failed measurement.
+pub fn run(args: &Args, locations: &Locations) -> super::Result {
+    match &args.what {
+        What::Fft { json, sizes } => {
+            if let Some(&bad) = sizes.iter().find(|&&n| !dsp::fft::is_supported_len(n)) {
+                return Err(format!("--sizes {bad}: use powers of two from 16 to 2048").into());
+            }
+            super::print(&bench::fft::run(sizes, true), *json)
+        }
+        What::M7 { json } => super::print(&bench::budget::run(&locations.firmware()?)?, *json),
+        What::FftM7 { json } => super::print(&bench::m7::run(&locations.firmware()?)?, *json),
+        What::Search { json } => super::print(&bench::search::run()?, *json),
+        What::Network { json } => super::print(&bench::network::run()?, *json),
+    }
+}

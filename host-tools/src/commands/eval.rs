@@ -1,0 +1,44 @@
+//! `metamoran eval`: methods against the truth on every bundle of a folder.
+
+use super::args::ModeArg;
+use std::path::PathBuf;
+
+/// Evaluate methods on every bundle in a folder against its truth (Table-I-like report).
+#[derive(clap::Args, Debug)]
+#[command(
+    after_help = "Example:\n  metamoran simulate --preset parking-lot --seed 11 --out eval --count 60\n  metamoran eval eval --modes naive,monocular"
+)]
+pub struct Args {
+    /// Folder of bundle folders.
+    dir: PathBuf,
+    /// Methods to evaluate.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "naive,monocular"
+    )]
+    modes: Vec<ModeArg>,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `metamoran eval`.
+///
+/// # Errors
+/// No bundle in the folder, or bundles that failed (listed in the report).
+pub fn run(args: &Args) -> super::Result {
+    let modes: Vec<_> = args.modes.iter().map(|&m| m.into()).collect();
+    let bundles = metamoran_process::eval::bundles_in(&args.dir)?.len() as u64;
+    let bar = super::progress::bar(bundles, "bundles", !args.json);
+    bar.set_message("evaluating");
+    let (report, _) = metamoran_process::eval::run(&args.dir, &modes, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    super::print(&report, args.json)?;
+    if report.failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("{} bundle(s) failed; see above", report.failed.len()).into())
+    }
+}

@@ -1,0 +1,137 @@
+//! `metamoran map`: the dense radar map of a moving-platform bundle and its figures.
+
+use super::odometry::figure;
+use metamoran_map::report::MapReport;
+use metamoran_map::{cylinder, depth, network::Network, report};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Dense radar map of a moving-platform bundle (the second paper): odometry, the last
+/// frame's submap, its completion by IP-Basic and by the 3D-RadarHR network, each depth
+/// image's MAE/RMSE against the lidar truth, and the network's frame rate. Writes the depth
+/// images (16-bit KITTI PNG, 320 × 80: frame, submap, ip_basic, network, lidar) and point
+/// clouds (PLY: submap.ply, network.ply) into --out. The network needs a build with
+/// --features onnx.
+#[derive(clap::Args, Debug)]
+#[command(
+    after_help = "Example:\n  cargo build --release -p metamoran --features onnx\n  metamoran simulate --preset drive --seed 3 --count 1 --out drives\n  metamoran map drives/drive-3-0000 --out drive-map --json"
+)]
+pub struct Args {
+    /// The bundle folder.
+    bundle: PathBuf,
+    /// Output folder for the depth images and point clouds.
+    #[arg(long, default_value = "map-out")]
+    out: PathBuf,
+    /// A 3D-RadarHR ONNX model (contract: vision crate docs) instead of the shipped one.
+    #[arg(long, value_name = "MODEL.onnx")]
+    model: Option<PathBuf>,
+    /// Skip the network (its figures are null); works without the onnx feature.
+    #[arg(long, conflicts_with = "model")]
+    no_network: bool,
+    /// Also write every frame's submap and lidar depth images as training pairs
+    /// (OUT/pairs/submap_FFFFFF.png, OUT/pairs/lidar_FFFFFF.png) for train/radarhr.py.
+    #[arg(long)]
+    training_pairs: bool,
+    /// Print the figures as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `metamoran map`.
+///
+/// # Errors
+/// A bad bundle or model, or images that cannot be written.
+pub fn run(args: &Args) -> super::Result {
+    let network = (!args.no_network)
+        .then(|| Network::load(args.model.as_deref()))
+        .transpose()?;
+    let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
+    let (report, odometry, images) = report::run(
+        &args.bundle,
+        &metamoran_sim::drive::MOUNT,
+        complete.as_ref().map(|c| c as depth::Completion),
+    )?;
+    let out = &args.out;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create ({e})", out.display()))?;
+    if let Some(im) = &images {
+        png(out, "frame.png", &im.frame)?;
+        png(out, "submap.png", &im.submap)?;
+        png(out, "ip_basic.png", &im.ip_basic)?;
+        metamoran_bundle::lidar::write(&out.join("submap.ply"), &im.submap_points)?;
+        if let Some(n) = &im.network {
+            png(out, "network.png", n)?;
+            metamoran_bundle::lidar::write(&out.join("network.ply"), &n.points())?;
+        }
+        if let Some(l) = &im.lidar {
+            png(out, "lidar.png", l)?;
+        }
+    }
+    if args.training_pairs {
+        let pairs = out.join("pairs");
+        std::fs::create_dir_all(&pairs)
+            .map_err(|e| format!("{}: cannot create ({e})", pairs.display()))?;
+        for (k, submap, truth) in depth::training_pairs(&args.bundle, &odometry)? {
+            png(out, &format!("pairs/submap_{k:06}.png"), &submap)?;
+            png(out, &format!("pairs/lidar_{k:06}.png"), &truth)?;
+        }
+    }
+    if args.json {
+        return super::print_json(&report);
+    }
+    print!(
+        "{}",
+        Figures {
+            report: &report,
+            frames: odometry.frames.len(),
+            out,
+        }
+    );
+    Ok(())
+}
+
+/// Writes `img` as `out/name`, a 16-bit KITTI PNG.
+fn png(out: &Path, name: &str, img: &cylinder::DepthImage) -> Result<(), String> {
+    metamoran_operator::depth_image::write_png16(
+        &out.join(name),
+        cylinder::WIDTH as u32,
+        cylinder::HEIGHT as u32,
+        &img.kitti(),
+    )
+}
+
+/// The map's figures as text.
+struct Figures<'a> {
+    report: &'a MapReport,
+    frames: usize,
+    out: &'a Path,
+}
+
+impl fmt::Display for Figures<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let r = self.report;
+        writeln!(
+            f,
+            "ego-velocity error {} m/s over {} frames; density growth factor {}",
+            figure(r.ego_velocity_error_mps, 3),
+            self.frames,
+            figure(r.density_growth_factor, 1)
+        )?;
+        if let (Some(m), Some(e)) = (r.mae_m, r.rmse_m) {
+            writeln!(f, "depth image vs lidar   MAE m   RMSE m")?;
+            for (name, a, b) in [
+                ("radar frame", m.frame, e.frame),
+                ("radar submap", m.submap, e.submap),
+                ("IP-Basic", m.ip_basic, e.ip_basic),
+                ("3D-RadarHR", m.network, e.network),
+            ] {
+                writeln!(f, "{name:<20}  {:>6}   {:>6}", figure(a, 2), figure(b, 2))?;
+            }
+        }
+        writeln!(
+            f,
+            "network {} Hz; images and point clouds in {}",
+            figure(r.network_fps, 1),
+            self.out.display()
+        )
+    }
+}

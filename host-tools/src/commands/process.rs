@@ -1,0 +1,121 @@
+//! `metamoran process`: each object of interest's depth in every frame of a bundle (cli.md).
+
+use super::args::{BundleArgs, Locations, ModeArg};
+use metamoran_process::{Module, ProcessOptions, ProcessOutput, process_streamed};
+use std::fmt;
+use std::path::PathBuf;
+
+/// Where the module's share of `--mode metamoran` runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum EdgeArg {
+    /// The `dsp` pipeline called in this process.
+    InProcess,
+    /// The firmware under QEMU, over the authenticated telemetry link.
+    Qemu,
+}
+
+/// Estimate each object of interest's depth in every frame of a scene bundle (cli.md).
+#[derive(clap::Args, Debug)]
+#[command(
+    after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json\n  metamoran process site-07 --segmenter seg.onnx --depth-model depth.onnx --json   (needs --features onnx)"
+)]
+pub struct Args {
+    /// The bundle folder.
+    bundle: PathBuf,
+    /// Method.
+    #[arg(long, value_enum, default_value = "metamoran")]
+    mode: ModeArg,
+    #[command(flatten)]
+    read: BundleArgs,
+    /// Where the module's share of `--mode metamoran` runs: in this process, or the firmware
+    /// under QEMU over the authenticated telemetry link (same JSON).
+    #[arg(long, value_enum, default_value = "in-process")]
+    edge: EdgeArg,
+    /// Link key for `--edge qemu`: 64 hex digits (default: the development key the firmware
+    /// is built with unless METAMORAN_LINK_KEY was set at its build).
+    #[arg(long, env = "METAMORAN_LINK_KEY", hide_env_values = true)]
+    link_key: Option<String>,
+    /// With `--edge qemu`: write the module's defmt log (binary frames) to this file; read it
+    /// with `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge < FILE`.
+    #[arg(long, value_name = "FILE")]
+    edge_log: Option<PathBuf>,
+    /// Also write the engineer's products into this folder: results.json, per frame the
+    /// fused depth image (depth_F.png, 16-bit KITTI: m × 256, 0 = none) and point cloud
+    /// (points_F.ply), and with --mode metamoran the range–azimuth maps before/after SIC
+    /// and P(d) plots per object (as `inspect`).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Print the JSON document (cli.md) instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs `metamoran process`.
+///
+/// # Errors
+/// A bad bundle, model, key or output folder, or a module that cannot run.
+pub fn run(args: &Args, locations: &Locations) -> super::Result {
+    let open = args.read.options()?;
+    let module = match args.edge {
+        EdgeArg::InProcess => Module::InProcess,
+        EdgeArg::Qemu => Module::Qemu {
+            firmware: locations.firmware()?,
+            key: match &args.link_key {
+                Some(hex) => {
+                    dsp::wire::Key::from_hex(hex).map_err(|e| format!("--link-key: {e}"))?
+                }
+                None => dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+            },
+        },
+    };
+    let options = ProcessOptions {
+        mode: args.mode.into(),
+        open,
+        module,
+    };
+    let (out, log) = process_streamed(&args.bundle, &options, |_| Ok(()))?;
+    if let Some(path) = &args.edge_log {
+        let bytes = log
+            .map(|l| l.defmt)
+            .ok_or("--edge-log: only the module under QEMU (--mode metamoran --edge qemu) logs")?;
+        std::fs::write(path, bytes).map_err(|e| format!("--edge-log {}: {e}", path.display()))?;
+    }
+    if let Some(dir) = &args.out {
+        let files =
+            metamoran_operator::outputs::write_products(dir, &args.bundle, options.open, &out)?;
+        eprintln!("wrote {} files to {}", files.len(), dir.display());
+    }
+    if args.json {
+        println!("{}", serde_json::to_string(&out)?);
+    } else {
+        print!("{}", Table(&out));
+    }
+    Ok(())
+}
+
+/// The estimates as lines of text, one object a line.
+struct Table<'a>(&'a ProcessOutput);
+
+impl fmt::Display for Table<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for frame in &self.0.frames {
+            for o in &frame.objects {
+                let depth = o
+                    .depth_m
+                    .map_or("not detected".to_owned(), |d| format!("{d:.3} m"));
+                let az = o
+                    .azimuth_deg
+                    .map_or(String::new(), |a| format!(" at {a:+.1}°"));
+                writeln!(
+                    f,
+                    "frame {} {:<7} #{:<3} {depth}{az} ({} points)",
+                    frame.frame,
+                    o.class,
+                    o.instance,
+                    o.points.len()
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
