@@ -3,22 +3,22 @@
 
 use dsp::wire::{DEV_KEY, Key};
 use metamoran_e2e::{firmware_dir, oracles_required, qemu_available};
-use metamoran_process::{Mode, Module, ProcessOptions, process, process_streamed};
+use metamoran_process::{Mode, ProcessOptions, Runner, process, process_streamed};
 use metamoran_sim::radar::RadarKind;
 use metamoran_sim::{layout::Preset, simulate};
 use std::path::Path;
 
 /// The module under QEMU with link key `key`.
-fn qemu(key: Key) -> Module {
-    Module::Qemu {
+fn qemu(key: Key) -> Runner {
+    Runner::Qemu {
         firmware: firmware_dir(),
         key,
     }
 }
 
-fn json(dir: &Path, module: Module) -> Result<String, String> {
+fn json(dir: &Path, runner: Runner) -> Result<String, String> {
     let options = ProcessOptions {
-        module,
+        runner,
         ..ProcessOptions::mode(Mode::Metamoran)
     };
     let out = process(dir, &options)?;
@@ -98,7 +98,7 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
     repeat_frames(&bundles[0], 3);
     let mut detected = 0;
     for b in &bundles {
-        let here = json(b, Module::InProcess).unwrap();
+        let here = json(b, Runner::InProcess).unwrap();
         let module = json(b, qemu(Key::new(&DEV_KEY))).unwrap();
         assert_eq!(module, here, "{}", b.display());
         detected += here.matches("\"detected\":true").count();
@@ -129,7 +129,7 @@ fn qemu_edge_logs_through_defmt() {
     let tmp = tempfile::tempdir().unwrap();
     let b = one_bundle(Preset::ParkingLot, 74, tmp.path());
     let options = ProcessOptions {
-        module: qemu(Key::new(&DEV_KEY)),
+        runner: qemu(Key::new(&DEV_KEY)),
         ..ProcessOptions::mode(Mode::Metamoran)
     };
     let (out, log) = process_streamed(&b, &options, |_| Ok(())).unwrap();

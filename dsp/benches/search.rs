@@ -8,7 +8,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
 use dsp::fft::C32;
 use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, ObjectHint, Scene};
+use dsp::pipeline::{Edge, FrameScene, ObjectHint};
 use dsp::range::StaticSum;
 use dsp::search::Contour;
 use dsp::search::depth::brute_force;
@@ -92,14 +92,14 @@ fn benches(c: &mut Criterion) {
         let mut a = vec![0u32; edge.arena_words()];
         b.iter(|| black_box(run_frame(&mut a)));
     });
-    let scene = Scene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
+    let scene = FrameScene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
     g.bench_function("sic", |b| b.iter(|| black_box(edge.cancel(&scene, &hint))));
     let reflectors = edge.cancel(&scene, &hint);
     drop(scene);
     g.bench_function("coarse_to_fine", |b| {
         let mut scores = vec![0.0; edge.fft_len()];
         b.iter(|| {
-            let mut s = Scene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
+            let mut s = FrameScene::resume(&edge, &mut arena, exponent, peaks.clone()).unwrap();
             black_box(edge.search(&mut s, &hint, &reflectors, &mut scores).ok())
         });
     });

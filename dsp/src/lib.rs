@@ -11,6 +11,8 @@
 //! * [`azimuth`]: azimuth FFT over the virtual array and steering-vector beamforming;
 //! * [`detect`]: CA/OS-CFAR and peak interpolation;
 //! * [`points`]: range–Doppler–azimuth–elevation point clouds;
+//! * [`response`]: the point-reflector response model (array geometry, range kernel, steering)
+//!   that SIC and the search share;
 //! * [`search`]: contour templates and the depth search;
 //! * [`ego`]: the radar's and the vehicle's velocity from Doppler (dense radar mapping);
 //! * [`pipeline`]: the module's per-frame job (sums → spectra → SIC → search per object);
@@ -37,6 +39,7 @@ pub mod fixed;
 pub mod pipeline;
 pub mod points;
 pub mod range;
+pub mod response;
 pub mod search;
 pub mod trig;
 pub mod units;

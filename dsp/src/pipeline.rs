@@ -17,9 +17,12 @@ use crate::clutter::sic::{self, MAX_REFLECTORS, Reflector};
 use crate::config::RadarConfig;
 use crate::fixed::{CQ15, Q15};
 use crate::range::{FrameSum, RangeError, Spectra};
+use crate::response::Geometry;
 use crate::search::Contour;
-use crate::search::depth::{self, Geometry, SearchError, SearchResult};
+use crate::search::depth::{self, SearchError, SearchResult};
 use crate::window::{self, WindowKind};
+use crate::wire::message::{WirePoint, m_to_mm, q15_to_sin, sin_to_q15};
+use crate::wire::{Hint, ObjectResult};
 use core::fmt;
 use heapless::Vec;
 
@@ -66,7 +69,68 @@ pub struct ObjectReport {
     pub cancelled: u8,
 }
 
+impl ObjectHint {
+    /// The wire form of this hint for `frame`, quantized as the link carries it. O(contour).
+    pub fn to_wire(&self, frame: u32) -> Hint {
+        Hint {
+            frame,
+            instance: self.id,
+            class: self.class,
+            span: (sin_to_q15(self.span.0), sin_to_q15(self.span.1)),
+            prior_mm: m_to_mm(self.prior_m),
+            contour: self
+                .contour
+                .points()
+                .iter()
+                .map(|p| WirePoint {
+                    sin_az: sin_to_q15(p.sin_az),
+                    rel_mm: m_to_mm(p.rel_range_m).min(u16::MAX as u32) as u16,
+                })
+                .collect(),
+        }
+    }
+
+    /// The hint a wire [`Hint`] carries. O(contour).
+    pub fn from_wire(hint: &Hint) -> Self {
+        Self {
+            id: hint.instance,
+            class: hint.class,
+            span: (q15_to_sin(hint.span.0), q15_to_sin(hint.span.1)),
+            prior_m: hint.prior_mm as f32 / 1000.0,
+            contour: Contour::new(
+                hint.contour
+                    .iter()
+                    .map(|p| (q15_to_sin(p.sin_az), p.rel_mm as f32 / 1000.0)),
+            ),
+        }
+    }
+}
+
 impl ObjectReport {
+    /// The wire form of this report for `hint`: the depth in millimetres, the direction of the
+    /// contour's closest point and the confidence in quarter dB (0: not detected).
+    pub fn to_wire(&self, hint: &ObjectHint) -> ObjectResult {
+        let closest = hint
+            .contour
+            .points()
+            .iter()
+            .min_by(|a, b| a.rel_range_m.total_cmp(&b.rel_range_m))
+            .map_or(0.0, |p| p.sin_az);
+        let confidence = if self.detected() {
+            let db = 10.0 * libm::log10f(self.floor_ratio());
+            libm::roundf(4.0 * db).clamp(1.0, 255.0) as u8
+        } else {
+            0
+        };
+        ObjectResult {
+            instance: self.id,
+            class: self.class,
+            depth_mm: m_to_mm(self.search.depth_m),
+            sin_az: sin_to_q15(closest),
+            confidence,
+        }
+    }
+
     /// `P(d*) / median P`.
     pub fn floor_ratio(&self) -> f32 {
         self.search.peak / self.search.floor.max(f32::MIN_POSITIVE)
@@ -152,7 +216,7 @@ pub struct Edge {
 }
 
 /// A frame after the range stage: spectra, the strongest reflectors, and the arena's free words.
-pub struct Scene<'a> {
+pub struct FrameScene<'a> {
     /// The range spectra.
     pub spectra: Spectra<'a>,
     /// The strongest reflectors, strongest first.
@@ -160,7 +224,7 @@ pub struct Scene<'a> {
     free: &'a mut [u32],
 }
 
-impl<'a> Scene<'a> {
+impl<'a> FrameScene<'a> {
     /// The scene of a frame already finished in `arena` (spectra with block exponent `exponent`
     /// in its first words), e.g. kept by the host while it works through the objects.
     ///
@@ -319,7 +383,7 @@ impl Edge {
         row: &mut [CQ15],
         azimuth: &mut [CQ15],
         powers: &mut [u64],
-    ) -> Result<Scene<'a>, PipelineError> {
+    ) -> Result<FrameScene<'a>, PipelineError> {
         let (spectra, free) = frame.finish(&self.window, row)?;
         let na = self.azimuth_len();
         let have = azimuth.len();
@@ -331,7 +395,7 @@ impl Edge {
             azimuth,
             powers,
         )?;
-        Ok(Scene {
+        Ok(FrameScene {
             spectra,
             peaks,
             free,
@@ -358,7 +422,11 @@ impl Edge {
     }
 
     /// SIC for one object: the reflectors outside its span, strongest first.
-    pub fn cancel(&self, scene: &Scene<'_>, hint: &ObjectHint) -> Vec<Reflector, MAX_REFLECTORS> {
+    pub fn cancel(
+        &self,
+        scene: &FrameScene<'_>,
+        hint: &ObjectHint,
+    ) -> Vec<Reflector, MAX_REFLECTORS> {
         // Keep the object's span plus a main lobe (first null of the array at sin = 2/span).
         let guard = 2.0 / self.array.span() as f32;
         let keep = [(hint.span.0 - guard, hint.span.1 + guard)];
@@ -378,7 +446,7 @@ impl Edge {
     /// [`PipelineError::Search`] if the search cannot run (empty contour, range, buffers).
     pub fn search(
         &self,
-        scene: &mut Scene<'_>,
+        scene: &mut FrameScene<'_>,
         hint: &ObjectHint,
         reflectors: &[Reflector],
         scores: &mut [f32],
@@ -406,7 +474,7 @@ impl Edge {
     /// [`PipelineError::Search`] if the search cannot run (empty contour, range, buffers).
     pub fn object(
         &self,
-        scene: &mut Scene<'_>,
+        scene: &mut FrameScene<'_>,
         hint: &ObjectHint,
         scores: &mut [f32],
     ) -> Result<ObjectReport, PipelineError> {

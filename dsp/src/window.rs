@@ -22,7 +22,7 @@ pub enum WindowKind {
 }
 
 /// The window as a cosine sum: `w[n] = a₀ − a₁·cos(2πn/(L−1)) + a₂·cos(4πn/(L−1)) − a₃·cos(6πn/(L−1))`.
-/// Every shape here is one, so its transform has a closed form (see `search::kernel`).
+/// Every shape here is one, so its transform has a closed form (see `response::kernel`).
 pub const fn cosine_terms(kind: WindowKind) -> [f64; 4] {
     match kind {
         WindowKind::Rectangular => [1.0, 0.0, 0.0, 0.0],

@@ -122,7 +122,8 @@ fn pipeline_cancels_clutter_and_matches_brute_force() {
         contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, (rr + 11.0) as f32))),
     };
     let mut scene =
-        dsp::pipeline::Scene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone()).unwrap();
+        dsp::pipeline::FrameScene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone())
+            .unwrap();
     let reflectors = r.edge.cancel(&scene, &hint);
     assert!(
         reflectors
@@ -172,7 +173,8 @@ fn beam_domain_cancellation_equals_time_domain_subtraction() {
         contour: Contour::new([(-0.1f32, 0.0f32)]),
     };
     let scene =
-        dsp::pipeline::Scene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone()).unwrap();
+        dsp::pipeline::FrameScene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone())
+            .unwrap();
     let reflectors = r.edge.cancel(&scene, &hint);
     assert!(!reflectors.is_empty());
     let geo = r.edge.geometry();

@@ -3,7 +3,7 @@
 
 use dsp::capture::{IqOrder, deinterleave_bytes};
 use dsp::clutter::remove_mean;
-use dsp::detect::{Cfar, CfarKind, Edge, quadratic_offset};
+use dsp::detect::{Boundary, Cfar, CfarKind, quadratic_offset};
 use dsp::fft::cfft_q15;
 use dsp::fixed::CQ15;
 use dsp::range::RangeProcessor;
@@ -47,8 +47,8 @@ proptest! {
     fn cfar_never_panics(x in proptest::collection::vec(prop_oneof![any::<f32>(), Just(f32::NAN), Just(f32::INFINITY)], 0..100),
                          guard in 0usize..5, train in 0usize..40, os in any::<bool>(), wrap in any::<bool>()) {
         let kind = if os { CfarKind::OrderedStatistic { rank: 0.75 } } else { CfarKind::CellAveraging };
-        let edge = if wrap { Edge::Wrap } else { Edge::Truncate };
-        let _ = Cfar { guard, train, scale: 3.0, kind, edge }.detect(&x, |_| ());
+        let boundary = if wrap { Boundary::Wrap } else { Boundary::Truncate };
+        let _ = Cfar { guard, train, scale: 3.0, kind, boundary }.detect(&x, |_| ());
     }
 
     #[test]

@@ -92,7 +92,7 @@ fn full_hint() -> Hint {
         prior_m: 1234.5,
         contour,
     };
-    Hint::from_object(u32::MAX, &hint)
+    hint.to_wire(u32::MAX)
 }
 
 #[test]
@@ -200,7 +200,7 @@ fn a_result_takes_at_most_16_bytes_on_the_wire() {
 #[test]
 fn quantized_hints_survive_the_wire_exactly() {
     let h = full_hint();
-    let back = Hint::from_object(h.frame, &h.to_object());
+    let back = ObjectHint::from_wire(&h).to_wire(h.frame);
     assert_eq!(back, h, "quantize(dequantize(x)) must be x");
     assert_eq!(h.contour.len(), 32);
 }

@@ -8,8 +8,8 @@ use dsp::config::RadarConfig;
 use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
 use dsp::fixed::CQ15;
 use dsp::pipeline::ObjectHint;
+use dsp::response::kernel::half_turns;
 use dsp::search::Contour;
-use dsp::search::kernel::half_turns;
 use dsp::trig::{Phase, expj_neg};
 
 /// Samples per chirp.

@@ -134,14 +134,14 @@ impl SemihostingFile {
 }
 
 impl crate::capture::CaptureSource for SemihostingFile {
-    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), crate::capture::CaptureError> {
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), crate::capture::SourceError> {
         let args = [self.handle, buf.as_mut_ptr() as usize, buf.len()];
         // SAFETY: SYS_READ writes at most `buf.len()` bytes into `buf`; returns the bytes not read.
         let left = unsafe { cortex_m_semihosting::syscall(cortex_m_semihosting::nr::READ, &args) };
         if left == 0 {
             Ok(())
         } else {
-            Err(crate::capture::CaptureError::Ended)
+            Err(crate::capture::SourceError::Ended)
         }
     }
 }

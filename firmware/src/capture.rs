@@ -12,7 +12,7 @@ use embedded_hal::spi::SpiDevice;
 
 /// Why a capture read failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CaptureError {
+pub enum SourceError {
     /// The source ended before the frame did.
     Ended,
     /// The device reported an error.
@@ -21,7 +21,7 @@ pub enum CaptureError {
     Timeout,
 }
 
-impl fmt::Display for CaptureError {
+impl fmt::Display for SourceError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Ended => write!(f, "the capture ended mid-frame: check the capture length"),
@@ -42,8 +42,8 @@ pub trait CaptureSource {
     /// Fills `buf` with the next bytes of the capture.
     ///
     /// # Errors
-    /// [`CaptureError`] if the bytes are not available; the stream position is then undefined.
-    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), CaptureError>;
+    /// [`SourceError`] if the bytes are not available; the stream position is then undefined.
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), SourceError>;
 }
 
 /// A capture held in memory (tests; a frame buffer filled by DMA).
@@ -60,10 +60,10 @@ impl<'a> SliceCapture<'a> {
 }
 
 impl CaptureSource for SliceCapture<'_> {
-    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), CaptureError> {
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), SourceError> {
         if self.bytes.len() < buf.len() {
             self.bytes = &[];
-            return Err(CaptureError::Ended);
+            return Err(SourceError::Ended);
         }
         let (head, tail) = self.bytes.split_at(buf.len());
         buf.copy_from_slice(head);
@@ -89,11 +89,11 @@ impl<D: SpiDevice, P: InputPin> SpiCapture<D, P> {
 }
 
 impl<D: SpiDevice, P: InputPin> CaptureSource for SpiCapture<D, P> {
-    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), CaptureError> {
+    fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), SourceError> {
         let mut left = self.polls;
-        while !self.ready.is_high().map_err(|_| CaptureError::Device)? {
-            left = left.checked_sub(1).ok_or(CaptureError::Timeout)?;
+        while !self.ready.is_high().map_err(|_| SourceError::Device)? {
+            left = left.checked_sub(1).ok_or(SourceError::Timeout)?;
         }
-        self.spi.read(buf).map_err(|_| CaptureError::Device)
+        self.spi.read(buf).map_err(|_| SourceError::Device)
     }
 }

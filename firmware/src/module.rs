@@ -18,8 +18,8 @@ use dsp::fixed::CQ15;
 use dsp::pipeline::{Edge, ObjectHint};
 use dsp::wire::message::MAX_OBJECTS;
 use dsp::wire::{
-    Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, ObjectResult,
-    Receiver, Sender, Stream, Uplink,
+    Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, Receiver,
+    Sender, Stream, Uplink,
 };
 use embedded_io::{Read, ReadReady, Write};
 use heapless::Vec;
@@ -235,7 +235,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             self.fault(h.frame, Fault::Hints);
         }
         self.hints_frame = h.frame;
-        if self.hints.push(h.to_object()).is_err() {
+        if self.hints.push(ObjectHint::from_wire(h)).is_err() {
             self.health.protocol_errors += 1;
             self.fault(h.frame, Fault::Hints);
         }
@@ -321,7 +321,7 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         for hint in &self.hints {
             match edge.object(&mut scene, hint, s.scores.get_mut(..m).unwrap_or(&mut [])) {
                 Ok(report) => {
-                    let r = ObjectResult::from_report(hint, &report);
+                    let r = report.to_wire(hint);
                     summary.detected += r.detected() as u8;
                     // Cannot overflow: at most MAX_OBJECTS hints.
                     let _ = objects.push(r);
@@ -397,7 +397,7 @@ mod tests {
     use crate::bench_scene;
     use crate::capture::SliceCapture;
     use crate::clock::StepClock;
-    use dsp::wire::{DEV_KEY, Fault, Health, LinkError};
+    use dsp::wire::{DEV_KEY, Fault, Health, LinkError, ObjectResult};
     use std::collections::VecDeque;
     use std::vec;
     use std::vec::Vec as StdVec;
@@ -540,10 +540,7 @@ mod tests {
         );
         let hints = bench_scene::hints();
         for h in &hints {
-            send(
-                &mut m,
-                &host.frame(&Downlink::Hint(Hint::from_object(0, h))),
-            );
+            send(&mut m, &host.frame(&Downlink::Hint(h.to_wire(0))));
         }
         let go = Downlink::Frame {
             frame: 0,
@@ -579,9 +576,9 @@ mod tests {
         let expected: StdVec<ObjectResult> = hints
             .iter()
             .map(|h| {
-                let h = Hint::from_object(0, h).to_object();
+                let h = ObjectHint::from_wire(&h.to_wire(0));
                 let r = edge.object(&mut scene, &h, &mut scores).unwrap();
-                ObjectResult::from_report(&h, &r)
+                r.to_wire(&h)
             })
             .collect();
         let Uplink::Results { summary, objects } = &up[1] else {

@@ -8,7 +8,7 @@ use crate::workload::{Fnv, noise_q15, noise_q31};
 use dsp::array::VirtualArray;
 use dsp::azimuth::beamform;
 use dsp::config::RadarConfig;
-use dsp::detect::{Cfar, CfarKind, Edge};
+use dsp::detect::{Boundary, Cfar, CfarKind};
 use dsp::fft::{Cfft, Complex32, cfft_f32, cfft_q15};
 use dsp::fixed::{CQ15, CQ31, Q15};
 use dsp::range::RangeProcessor;
@@ -162,7 +162,7 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
         train: 8,
         scale: 4.0,
         kind: CfarKind::OrderedStatistic { rank: 0.75 },
-        edge: Edge::Truncate,
+        boundary: Boundary::Truncate,
     };
     let mut h = Fnv::default();
     let found = cfar

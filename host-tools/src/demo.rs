@@ -13,7 +13,7 @@ use metamoran_operator::geofence::{Alert, Geofence, Perimeter};
 use metamoran_operator::live::{LiveView, OperatorState, Track};
 use metamoran_operator::mqtt::MqttConfig;
 use metamoran_operator::outputs::{write, write_outputs};
-use metamoran_process::{FrameEvent, Mode, Module, ProcessOptions, process_streamed};
+use metamoran_process::{FrameEvent, Mode, ProcessOptions, Runner, process_streamed};
 use metamoran_sim::{layout::Preset, radar::RadarKind};
 use serde::Serialize;
 use std::fmt;
@@ -160,7 +160,7 @@ struct Operator<'a> {
 
 impl Operator<'_> {
     /// The tracks of one frame's objects, with the zones they are in now.
-    fn tracks(&self, objects: &[metamoran_process::ObjectResult]) -> Vec<Track> {
+    fn tracks(&self, objects: &[metamoran_process::ObjectEstimate]) -> Vec<Track> {
         objects
             .iter()
             .map(|o| Track {
@@ -272,12 +272,12 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
         .transpose()?;
     let published = Published::default();
     let mut view = if live { Some(LiveView::start()?) } else { None };
-    let qemu = firmware.as_ref().map(|firmware| Module::Qemu {
+    let qemu = firmware.as_ref().map(|firmware| Runner::Qemu {
         firmware: firmware.clone(),
         key: dsp::wire::Key::new(&dsp::wire::DEV_KEY),
     });
     let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)";
-    let mut run_on = |module: Module, words: &str| {
+    let mut run_on = |runner: Runner, words: &str| {
         let mut op = Operator {
             fence: Geofence::new(perimeter.clone()),
             state: OperatorState {
@@ -298,14 +298,14 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
         let options = ProcessOptions {
             mode: Mode::Metamoran,
             open: opts.clone(),
-            module,
+            runner,
         };
         let r = process_streamed(bundle, &options, |e| op.frame(e))?;
         Ok::<_, String>((r, op.state))
     };
     let ((output, log), state) = match (edge, qemu) {
         (DemoEdge::InProcess, _) => {
-            run_on(Module::InProcess, "in this process (--edge in-process)")?
+            run_on(Runner::InProcess, "in this process (--edge in-process)")?
         }
         (DemoEdge::Qemu, Some(q)) => run_on(q, qemu_words)?,
         (DemoEdge::Qemu, None) => {
@@ -317,17 +317,17 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
             match run_on(q, qemu_words) {
                 Ok(r) => r,
                 Err(e) => run_on(
-                    Module::InProcess,
+                    Runner::InProcess,
                     &format!("in this process: QEMU could not run the firmware ({e})"),
                 )?,
             }
         }
         (DemoEdge::Auto, Some(_)) => run_on(
-            Module::InProcess,
+            Runner::InProcess,
             "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)",
         )?,
         (DemoEdge::Auto, None) => run_on(
-            Module::InProcess,
+            Runner::InProcess,
             "in this process: no firmware sources to build (run from a checkout or give --firmware DIR)",
         )?,
     };

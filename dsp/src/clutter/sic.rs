@@ -4,7 +4,7 @@
 //! ([`super::peaks`]), strongest first. Each is estimated as a point reflector: range and
 //! azimuth refined by parabolas (in dB) through its neighbours, complex amplitude `α` fitted by
 //! least squares over its main lobe (the paper's "α equal to the peak"). Its synthesized
-//! response `α·T(k − r)·AF(s_r − s)` ([`crate::search::kernel`]) is then subtracted from every
+//! response `α·T(k − r)·AF(s_r − s)` ([`crate::response::kernel`]) is then subtracted from every
 //! later beam, so the next estimate sees the residual. It stops when the next reflector outside
 //! has no more than `stop_ratio` times the power of the strongest peak inside the span, or after
 //! [`MAX_REFLECTORS`].
@@ -16,9 +16,9 @@
 use super::peaks::Peak;
 use crate::fft::C32;
 use crate::range::Spectra;
-use crate::search::beam::Steering;
-use crate::search::depth::Geometry;
-use crate::search::kernel::{SPREAD, array_factor, window_transform};
+use crate::response::Geometry;
+use crate::response::beam::Steering;
+use crate::response::kernel::{SPREAD, array_factor, window_transform};
 use heapless::Vec;
 
 /// Most reflectors cancelled per object.
@@ -65,7 +65,7 @@ impl Reflector {
     }
 
     /// Subtracts this reflector from windowed time-domain sums (`elements × N`, the input of
-    /// [`crate::search::depth::brute_force`]) whose spectra have block exponent `exponent`:
+    /// `search::depth::brute_force`) whose spectra have block exponent `exponent`:
     /// element e loses `α·2^exponent·cₑ·exp(jπ·pₑ·s)·w[n]·exp(j2π·r·n/M)`. O(E·N).
     pub fn subtract_from(
         &self,

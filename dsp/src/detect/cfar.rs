@@ -25,7 +25,7 @@ pub enum CfarKind {
 
 /// What happens where the window runs past the ends of an axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Edge {
+pub enum Boundary {
     /// Use only the cells that exist (range axis).
     Truncate,
     /// Wrap around (Doppler and azimuth axes, which are circular).
@@ -44,7 +44,7 @@ pub struct Cfar {
     /// Noise estimator.
     pub kind: CfarKind,
     /// Behaviour at the ends.
-    pub edge: Edge,
+    pub boundary: Boundary,
 }
 
 /// One cell that crossed the threshold.
@@ -91,11 +91,11 @@ impl fmt::Display for CfarError {
 }
 
 /// Maps `i + offset` onto `0..len`, or `None` past a truncated edge.
-fn neighbour(i: usize, offset: isize, len: usize, edge: Edge) -> Option<usize> {
+fn neighbour(i: usize, offset: isize, len: usize, boundary: Boundary) -> Option<usize> {
     let j = i as isize + offset;
-    match edge {
-        Edge::Truncate => (0..len as isize).contains(&j).then_some(j as usize),
-        Edge::Wrap => Some(j.rem_euclid(len as isize) as usize),
+    match boundary {
+        Boundary::Truncate => (0..len as isize).contains(&j).then_some(j as usize),
+        Boundary::Wrap => Some(j.rem_euclid(len as isize) as usize),
     }
 }
 
@@ -167,7 +167,7 @@ impl Cfar {
             est.reset();
             for d in (self.guard + 1)..=(self.guard + self.train) {
                 for off in [-(d as isize), d as isize] {
-                    if let Some(j) = neighbour(i, off, x.len(), self.edge) {
+                    if let Some(j) = neighbour(i, off, x.len(), self.boundary) {
                         est.push(x[j])?;
                     }
                 }
@@ -192,9 +192,9 @@ impl Cfar {
 /// is the rectangle `(guard + train)` cells around the cell minus the guard rectangle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cfar2d {
-    /// Guard and training cells along rows (range), with its edge behaviour.
+    /// Guard and training cells along rows (range), with its boundary behaviour.
     pub rows: Cfar,
-    /// Guard and training cells along columns (Doppler), with its edge behaviour.
+    /// Guard and training cells along columns (Doppler), with its boundary behaviour.
     pub cols: Cfar,
 }
 
@@ -231,14 +231,14 @@ impl Cfar2d {
             for c in 0..cols {
                 est.reset();
                 for dr in -rt..=rt {
-                    let Some(rr) = neighbour(r, dr, rows, self.rows.edge) else {
+                    let Some(rr) = neighbour(r, dr, rows, self.rows.boundary) else {
                         continue;
                     };
                     for dc in -ct..=ct {
                         if dr.abs() <= rg && dc.abs() <= cg {
                             continue;
                         }
-                        if let Some(cc) = neighbour(c, dc, cols, self.cols.edge) {
+                        if let Some(cc) = neighbour(c, dc, cols, self.cols.boundary) {
                             est.push(map[rr * cols + cc])?;
                         }
                     }
@@ -284,7 +284,7 @@ mod tests {
             train: 6,
             scale: 5.0,
             kind: CfarKind::CellAveraging,
-            edge: Edge::Truncate,
+            boundary: Boundary::Truncate,
         };
         let mut ca = Vec::new();
         base.detect(&x, |d| ca.push(d.index)).unwrap();
@@ -312,7 +312,7 @@ mod tests {
             train: 3,
             scale: 2.0,
             kind: CfarKind::CellAveraging,
-            edge: Edge::Wrap,
+            boundary: Boundary::Wrap,
         };
         let mut d = Vec::new();
         cfar.detect(&x, |v| d.push(v)).unwrap();
@@ -331,12 +331,12 @@ mod tests {
             train: 3,
             scale: 6.0,
             kind: CfarKind::OrderedStatistic { rank: 0.75 },
-            edge: Edge::Truncate,
+            boundary: Boundary::Truncate,
         };
         let cfar = Cfar2d {
             rows: axis,
             cols: Cfar {
-                edge: Edge::Wrap,
+                boundary: Boundary::Wrap,
                 ..axis
             },
         };
@@ -349,7 +349,7 @@ mod tests {
             Cfar2d {
                 rows: big,
                 cols: Cfar {
-                    edge: Edge::Wrap,
+                    boundary: Boundary::Wrap,
                     ..big
                 }
             }

@@ -4,5 +4,5 @@
 mod cfar;
 mod peak;
 
-pub use cfar::{Cfar, Cfar2d, CfarError, CfarKind, Detection, Edge};
+pub use cfar::{Boundary, Cfar, Cfar2d, CfarError, CfarKind, Detection};
 pub use peak::{is_local_max, quadratic_offset};

@@ -11,4 +11,4 @@ pub mod ackermann;
 pub mod velocity;
 
 pub use ackermann::{Mount, VehicleMotion};
-pub use velocity::{Detection, EgoError, EgoVelocity, Ransac, estimate};
+pub use velocity::{DopplerDetection, EgoError, EgoVelocity, Ransac, estimate};

@@ -14,14 +14,14 @@ use nalgebra::{Matrix2, Vector2};
 
 /// One detection as ego-motion sees it.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Detection {
+pub struct DopplerDetection {
     /// Unit line of sight in the radar frame (x right, y down, z forward).
     pub direction: [f32; 3],
     /// Radial velocity, m/s, positive away from the radar.
     pub radial_velocity: f32,
 }
 
-impl Detection {
+impl DopplerDetection {
     /// A detection at azimuth `azimuth` and elevation `elevation` (rad; azimuth positive to the
     /// right, elevation positive up) with radial velocity `radial_velocity` (m/s).
     pub fn at(azimuth: f32, elevation: f32, radial_velocity: f32) -> Self {
@@ -135,7 +135,7 @@ impl XorShift {
 /// Least squares `v` minimizing `Σ (v_r + u_x·v_x + u_z·v_z)²` over the detections `keep`
 /// selects: the 2 × 2 normal equations `AᵀA v = −Aᵀ v_r` by Cholesky (nalgebra). `None` if
 /// they are (near) singular: the lines of sight are parallel.
-fn least_squares(dets: &[Detection], keep: impl Fn(usize) -> bool) -> Option<[f32; 2]> {
+fn least_squares(dets: &[DopplerDetection], keep: impl Fn(usize) -> bool) -> Option<[f32; 2]> {
     let mut ata = Matrix2::<f32>::zeros();
     let mut atb = Vector2::<f32>::zeros();
     for (i, d) in dets.iter().enumerate() {
@@ -162,7 +162,7 @@ fn least_squares(dets: &[Detection], keep: impl Fn(usize) -> bool) -> Option<[f3
 /// # Errors
 /// [`EgoError`] when too few detections agree, the inliers are degenerate, or the mask is short.
 pub fn estimate(
-    dets: &[Detection],
+    dets: &[DopplerDetection],
     config: &Ransac,
     inliers: &mut [bool],
 ) -> Result<EgoVelocity, EgoError> {
@@ -229,7 +229,7 @@ mod tests {
     /// A deterministic scene: `n` static points over ±60° azimuth and ±10° elevation, radial
     /// velocities from radar velocity `v` plus uniform noise of ±`noise`, and `movers`
     /// detections with velocities of their own.
-    fn scene(v: [f64; 2], n: usize, noise: f64, movers: usize) -> Vec<Detection> {
+    fn scene(v: [f64; 2], n: usize, noise: f64, movers: usize) -> Vec<DopplerDetection> {
         let mut rng = XorShift(12345);
         let mut u = || rng.below(1 << 20) as f64 / f64::from(1 << 20);
         let mut out = Vec::new();
@@ -241,7 +241,7 @@ mod tests {
             if i >= n {
                 vr += 2.0 + 6.0 * u(); // a mover: at least 2 m/s off the cosine
             }
-            out.push(Detection::at(az as f32, el as f32, vr as f32));
+            out.push(DopplerDetection::at(az as f32, el as f32, vr as f32));
         }
         out
     }
@@ -285,7 +285,7 @@ mod tests {
             Err(EgoError::TooFewInliers { best: 4 })
         );
         // Every detection straight ahead: the sideways velocity is unobservable.
-        let ahead = [Detection::at(0.0, 0.0, -5.0); 10];
+        let ahead = [DopplerDetection::at(0.0, 0.0, -5.0); 10];
         let mut mask = [false; 10];
         assert!(estimate(&ahead, &Ransac::default(), &mut mask).is_err());
         let mut short = [false; 3];

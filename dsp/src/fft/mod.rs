@@ -10,7 +10,6 @@ mod q31;
 mod reorder;
 pub(crate) mod simd;
 pub use simd::complex_mac;
-pub(crate) mod twiddle;
 
 /// Short name of the f32 complex type used for f32 spectra.
 pub use float::Complex32 as C32;
@@ -22,7 +21,7 @@ use core::fmt;
 /// Smallest supported FFT length.
 pub const MIN_LEN: usize = 16;
 /// Largest supported FFT length.
-pub const MAX_LEN: usize = twiddle::TABLE_LEN;
+pub const MAX_LEN: usize = crate::trig::twiddle::TABLE_LEN;
 
 /// Block exponent of a fixed-point spectrum: the true DFT equals the output times `2^exponent`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]

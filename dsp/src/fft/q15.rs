@@ -18,8 +18,8 @@
 
 use super::reorder::bit_reverse;
 use super::simd::{add, add_j, rotate, shadd16, sub, sub_j};
-use super::twiddle::{TABLE_LEN, TWIDDLE_Q15};
 use crate::fixed::{CQ15, words_mut};
+use crate::trig::twiddle::{TABLE_LEN, TWIDDLE_Q15};
 
 /// The twiddle table as packed words.
 fn twiddle_words() -> &'static [u32; TABLE_LEN] {

@@ -6,8 +6,8 @@
 //! 4·√2 < 2³), the closing radix-2 pass by `b + 1 − 31`. Outputs are rounded half up.
 
 use super::reorder::bit_reverse;
-use super::twiddle::{TABLE_LEN, TWIDDLE_Q31};
 use crate::fixed::{CQ31, Complex, Q31};
+use crate::trig::twiddle::{TABLE_LEN, TWIDDLE_Q31};
 
 type Wide = Complex<i64>;
 

@@ -6,7 +6,7 @@
 //! * [`brute_force`]: for every fine depth and contour point, the matched filter on the windowed
 //!   samples of every element: `E·N` MACs each, `D·K·E·N` in all (`f32`; the reference).
 //! * [`coarse_to_fine`]: beamform the fixed-point range spectra toward each point once, in exact
-//!   integer arithmetic, over the bins the search can reach ([`super::beam`]), with the cancelled
+//!   integer arithmetic, over the bins the search can reach ([`crate::response::beam`]), with the cancelled
 //!   reflectors' responses subtracted; score every depth on the bin grid (`K` lookups each);
 //!   then evaluate `P` on the fine grid (Dirichlet interpolation of the zero-padded spectrum
 //!   over ±[`INTERP_HALF_WIDTH`] bins) only within ±1 bin of the best [`CANDIDATES`] coarse
@@ -17,11 +17,11 @@
 //! every platform).
 
 use super::contour::{Contour, MAX_CONTOUR};
-use super::kernel::Interpolator;
 use crate::clutter::sic::{Reflector, Residual};
 pub use crate::fft::C32;
 use crate::range::Spectra;
-use crate::window::WindowKind;
+use crate::response::Geometry;
+use crate::response::kernel::Interpolator;
 use core::fmt;
 
 /// Fine depth steps per range bin.
@@ -35,23 +35,6 @@ pub const INTERP_HALF_WIDTH: usize = 8;
 const INTERP_WIDTH: usize = 2 * INTERP_HALF_WIDTH + 2;
 /// Fine points the refinement can visit: ±1 bin around each candidate.
 const FINE_POINTS: usize = CANDIDATES * (2 * FINE_STEPS_PER_BIN + 1);
-
-/// What the search needs to know about the radar.
-#[derive(Clone, Copy, Debug)]
-pub struct Geometry<'a> {
-    /// Position of each virtual element, half-wavelengths from the first (ascending).
-    pub positions: &'a [u16],
-    /// Channels summed into each element.
-    pub counts: &'a [u8],
-    /// ADC samples per chirp (N).
-    pub samples: usize,
-    /// Range FFT length (M ≥ N).
-    pub fft_len: usize,
-    /// Range window.
-    pub window: WindowKind,
-    /// Metres per range bin of the M-point FFT.
-    pub bin_m: f32,
-}
 
 /// The chosen depth and the evidence for it.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -23,11 +23,7 @@
 //! fixed-point range spectra, first on the bin grid, then by Dirichlet interpolation of the
 //! zero-padded spectrum on a fine grid around the best coarse candidates.
 
-pub mod beam;
 mod contour;
 pub mod depth;
-mod dirichlet;
-pub mod kernel;
 
 pub use contour::{Contour, ContourPoint, MAX_CONTOUR};
-pub use dirichlet::dirichlet;

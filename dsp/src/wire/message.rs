@@ -1,13 +1,14 @@
 //! What travels on the link, both ways: postcard-encoded enums whose integer fields are varints.
 //!
 //! Units are fixed on the wire so both ends agree to the bit: sines of azimuth in Q15
-//! (`sin θ · 32767`, rounded), ranges in millimetres. The host's in-process pipeline quantizes
-//! its hints and results through the same conversions ([`Hint::from_object`],
-//! [`ObjectResult::from_report`]), so in-process and on-module answers are identical.
+//! (`sin θ · 32767`, rounded), ranges in millimetres ([`sin_to_q15`], [`m_to_mm`]). The
+//! pipeline converts its hints and reports to and from these messages (`ObjectHint::to_wire`,
+//! `ObjectHint::from_wire`, `ObjectReport::to_wire`), and the host's in-process pipeline
+//! quantizes through the same conversions, so in-process and on-module answers are identical.
+//! This module knows nothing of the pipeline.
 
 use crate::config::RadarConfig;
-use crate::pipeline::{ObjectHint, ObjectReport};
-use crate::search::{Contour, MAX_CONTOUR};
+use crate::search::MAX_CONTOUR;
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
@@ -61,43 +62,6 @@ pub struct Hint {
     pub contour: Vec<WirePoint, MAX_CONTOUR>,
 }
 
-impl Hint {
-    /// The wire form of `hint` for `frame`. O(contour).
-    pub fn from_object(frame: u32, hint: &ObjectHint) -> Self {
-        Self {
-            frame,
-            instance: hint.id,
-            class: hint.class,
-            span: (sin_to_q15(hint.span.0), sin_to_q15(hint.span.1)),
-            prior_mm: m_to_mm(hint.prior_m),
-            contour: hint
-                .contour
-                .points()
-                .iter()
-                .map(|p| WirePoint {
-                    sin_az: sin_to_q15(p.sin_az),
-                    rel_mm: m_to_mm(p.rel_range_m).min(u16::MAX as u32) as u16,
-                })
-                .collect(),
-        }
-    }
-
-    /// The pipeline's hint. O(contour).
-    pub fn to_object(&self) -> ObjectHint {
-        ObjectHint {
-            id: self.instance,
-            class: self.class,
-            span: (q15_to_sin(self.span.0), q15_to_sin(self.span.1)),
-            prior_m: self.prior_mm as f32 / 1000.0,
-            contour: Contour::new(
-                self.contour
-                    .iter()
-                    .map(|p| (q15_to_sin(p.sin_az), p.rel_mm as f32 / 1000.0)),
-            ),
-        }
-    }
-}
-
 /// A strong object the host knows is clutter (not searched), by direction and class.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Clutter {
@@ -147,29 +111,6 @@ pub struct ObjectResult {
 }
 
 impl ObjectResult {
-    /// The wire form of the pipeline's `report` for `hint`.
-    pub fn from_report(hint: &ObjectHint, report: &ObjectReport) -> Self {
-        let closest = hint
-            .contour
-            .points()
-            .iter()
-            .min_by(|a, b| a.rel_range_m.total_cmp(&b.rel_range_m))
-            .map_or(0.0, |p| p.sin_az);
-        let confidence = if report.detected() {
-            let db = 10.0 * libm::log10f(report.floor_ratio());
-            libm::roundf(4.0 * db).clamp(1.0, 255.0) as u8
-        } else {
-            0
-        };
-        Self {
-            instance: report.id,
-            class: report.class,
-            depth_mm: m_to_mm(report.search.depth_m),
-            sin_az: sin_to_q15(closest),
-            confidence,
-        }
-    }
-
     /// Depth in metres.
     pub fn depth_m(&self) -> f64 {
         self.depth_mm as f64 / 1000.0

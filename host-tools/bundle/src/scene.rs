@@ -180,6 +180,7 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
         ConfigError::ChirpsPerTx(_) => f.error("chirps_per_tx", e.to_string()),
         ConfigError::Empty(field) => f.error(field, e.to_string()),
         ConfigError::TxOrder { slot, .. } => f.error(&format!("tx_order[{slot}]"), e.to_string()),
+        _ => f.error("radar", e.to_string()),
     })?;
     Ok(config)
 }

@@ -1,6 +1,6 @@
 //! Radar point clouds of a bundle's frames, with the module's `dsp` processing.
 
-use dsp::detect::{Cfar, Cfar2d, CfarKind, Edge};
+use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
 use dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
 use dsp::window::WindowKind;
 use metamoran_bundle::Bundle;
@@ -10,17 +10,17 @@ use metamoran_process::frame::{FrameOptions, FrameProcessor};
 /// training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks within
 /// 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell.
 pub fn default_options() -> CloudOptions {
-    let axis = |guard, train, edge| Cfar {
+    let axis = |guard, train, boundary| Cfar {
         guard,
         train,
         scale: 3.0,
         kind: CfarKind::CellAveraging,
-        edge,
+        boundary,
     };
     CloudOptions {
         cfar: Cfar2d {
-            rows: axis(2, 8, Edge::Truncate),
-            cols: axis(1, 4, Edge::Wrap),
+            rows: axis(2, 8, Boundary::Truncate),
+            cols: axis(1, 4, Boundary::Wrap),
         },
         direction_floor_db: 8.0,
         min_range_m: 1.5,

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 /// A loaded depth-completion network.
-pub struct Network {
+pub struct CompletionNetwork {
     #[cfg(feature = "onnx")]
     inner: metamoran_vision::RadarHr,
     /// Without tract there is no network: the type has no values.
@@ -13,7 +13,7 @@ pub struct Network {
     none: std::convert::Infallible,
 }
 
-impl Network {
+impl CompletionNetwork {
     /// The ONNX model at `path`, or the shipped one.
     ///
     /// # Errors

@@ -4,7 +4,7 @@
 //! are what [`super::depth`] builds submaps from.
 
 use super::cloud::{Clouds, default_options};
-use dsp::ego::{Detection, Mount, Ransac, estimate};
+use dsp::ego::{DopplerDetection, Mount, Ransac, estimate};
 use metamoran_bundle::pose::Pose;
 use metamoran_bundle::{Bundle, OpenOptions};
 use serde::Serialize;
@@ -62,11 +62,11 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
     let mut last_motion: Option<([f64; 2], f64)> = None;
     for f in 0..bundle.frames() {
         let points = clouds.frame(&mut bundle, f)?;
-        let dets: Vec<Detection> = points
+        let dets: Vec<DopplerDetection> = points
             .iter()
             // bundle.md's range and radial velocity are in the x–z plane: the cosine relation
             // in azimuth alone, as the paper fits it.
-            .map(|p| Detection::at(p.azimuth, 0.0, p.radial_velocity_mps))
+            .map(|p| DopplerDetection::at(p.azimuth, 0.0, p.radial_velocity_mps))
             .collect();
         let mut mask = vec![false; dets.len()];
         let est = estimate(&dets, &Ransac::default(), &mut mask).ok();

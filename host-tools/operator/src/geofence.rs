@@ -17,7 +17,7 @@
 //! polygon = [[-8.0, 5.0], [8.0, 5.0], [8.0, 30.0], [-8.0, 30.0]]   # [x, z], m
 //! ```
 
-use metamoran_process::ObjectResult;
+use metamoran_process::ObjectEstimate;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::path::Path;
@@ -204,7 +204,7 @@ impl Geofence {
     }
 
     /// Whether `o` counts: detected, restricted class, confident enough, with a position.
-    fn position(&self, o: &ObjectResult) -> Option<[f64; 2]> {
+    fn position(&self, o: &ObjectEstimate) -> Option<[f64; 2]> {
         let p = &self.perimeter;
         let confident = o.confidence_db.is_none_or(|c| c >= p.min_confidence_db);
         let restricted = p.restricted_classes.contains(&o.class);
@@ -223,7 +223,7 @@ impl Geofence {
 
     /// Updates the state with one frame's objects and returns the alerts it raises, by object
     /// then zone. O(objects × vertices).
-    pub fn update(&mut self, frame: u32, time_s: f64, objects: &[ObjectResult]) -> Vec<Alert> {
+    pub fn update(&mut self, frame: u32, time_s: f64, objects: &[ObjectEstimate]) -> Vec<Alert> {
         let mut out = Vec::new();
         for o in objects {
             let Some(pos) = self.position(o) else {
@@ -284,8 +284,8 @@ mod tests {
         assert!(signed_distance(&l, [3.0, 3.0]) < 0.0);
     }
 
-    fn object(instance: u16, class: &str, x: f64, z: f64, conf: Option<f64>) -> ObjectResult {
-        ObjectResult {
+    fn object(instance: u16, class: &str, x: f64, z: f64, conf: Option<f64>) -> ObjectEstimate {
+        ObjectEstimate {
             instance,
             class: class.into(),
             detected: true,

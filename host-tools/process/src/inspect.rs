@@ -6,7 +6,6 @@
 
 use crate::camera_points::objects_of_interest;
 use crate::metamoran::{StaticScene, prepare};
-use dsp::wire::ObjectResult as WireResult;
 use metamoran_bundle::Bundle;
 use metamoran_bundle::geometry::CameraModel;
 use serde::Serialize;
@@ -129,7 +128,7 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
             prior_m: p.hint.prior_m as f64,
             depth_m: report.search.depth_m as f64,
             detected: report.detected(),
-            confidence_db: WireResult::from_report(&p.hint, &report).confidence as f64 / 4.0,
+            confidence_db: report.to_wire(&p.hint).confidence as f64 / 4.0,
             cancelled: p
                 .reflectors
                 .iter()

@@ -19,6 +19,7 @@ pub mod summary;
 
 use crate::frame::{FrameOptions, FrameProcessor};
 use camera_points::{CameraObject, objects_of_interest};
+use dsp::pipeline::ObjectHint;
 use dsp::window::WindowKind;
 use dsp::wire::Key;
 use metamoran_bundle::geometry::{CameraModel, Point};
@@ -53,7 +54,7 @@ impl Mode {
 
 /// One object's estimate (cli.md).
 #[derive(Clone, Debug, Serialize)]
-pub struct ObjectResult {
+pub struct ObjectEstimate {
     /// Instance id.
     pub instance: u16,
     /// Class word.
@@ -72,7 +73,7 @@ pub struct ObjectResult {
     pub confidence_db: Option<f64>,
 }
 
-impl ObjectResult {
+impl ObjectEstimate {
     /// A detection at `depth` (m) and `azimuth` (rad) with its points.
     pub fn found(obj: &CameraObject, depth: f64, azimuth: Option<f64>, points: Vec<Point>) -> Self {
         let mm = |v: f64| (v * 1000.0).round() / 1000.0;
@@ -107,7 +108,7 @@ pub struct FrameResult {
     /// Frame number.
     pub frame: u32,
     /// One entry per object-of-interest instance, in id order.
-    pub objects: Vec<ObjectResult>,
+    pub objects: Vec<ObjectEstimate>,
 }
 
 /// The whole output of `process --json`.
@@ -121,7 +122,7 @@ pub struct ProcessOutput {
 
 /// Where the module's share of [`Mode::Metamoran`] runs. Both give the same JSON.
 #[derive(Clone, Default)]
-pub enum Module {
+pub enum Runner {
     /// The `dsp` pipeline called in this process.
     #[default]
     InProcess,
@@ -142,7 +143,7 @@ pub struct ProcessOptions {
     /// How to read the bundle.
     pub open: OpenOptions,
     /// Where the module runs (with [`Mode::Metamoran`]).
-    pub module: Module,
+    pub runner: Runner,
 }
 
 impl ProcessOptions {
@@ -190,8 +191,8 @@ pub fn process_streamed(
     let mode = options.mode;
     let iq_order = options.open.iq_order;
     let mut bundle = Bundle::open(dir, options.open.clone()).map_err(|e| e.to_string())?;
-    let mut module = match (mode, &options.module) {
-        (Mode::Metamoran, Module::Qemu { firmware, key }) => {
+    let mut module = match (mode, &options.runner) {
+        (Mode::Metamoran, Runner::Qemu { firmware, key }) => {
             if iq_order != dsp::capture::IqOrder::Iiqq {
                 return Err("--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process".into());
             }
@@ -233,11 +234,11 @@ pub fn process_streamed(
                         .map(|(o, h)| match h {
                             Some(h) => metamoran::merge(
                                 o,
-                                &h.to_object(),
+                                &ObjectHint::from_wire(h),
                                 results.next().flatten(),
                                 moving.as_ref(),
                             ),
-                            None => ObjectResult::missed(o),
+                            None => ObjectEstimate::missed(o),
                         })
                         .collect()
                 } else {

@@ -2,14 +2,14 @@
 //! `dsp`); per object, its contour from the camera, clutter cancellation outside its span,
 //! the depth search, and depth imaging (Sec. IV).
 
-use super::ObjectResult;
+use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use dsp::clutter::peaks::{MAX_PEAKS, Peak};
 use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
 use dsp::config::RadarConfig;
 use dsp::fft::C32;
 use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, ObjectHint, ObjectReport, Scene};
+use dsp::pipeline::{Edge, FrameScene, ObjectHint, ObjectReport};
 use dsp::range::{Spectra, StaticSum};
 use dsp::search::Contour;
 use dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
@@ -150,14 +150,14 @@ impl StaticScene {
     }
 }
 
-/// The module's view of a frame already finished in `arena` (see [`Scene::resume`]).
+/// The module's view of a frame already finished in `arena` (see [`FrameScene::resume`]).
 fn resume<'a>(
     edge: &Edge,
     arena: &'a mut [u32],
     exponent: i32,
     peaks: &heapless::Vec<Peak, MAX_PEAKS>,
-) -> Result<Scene<'a>, String> {
-    Scene::resume(edge, arena, exponent, peaks.clone()).map_err(|e| e.to_string())
+) -> Result<FrameScene<'a>, String> {
+    FrameScene::resume(edge, arena, exponent, peaks.clone()).map_err(|e| e.to_string())
 }
 
 /// A frame's moving scene: static clutter removed (mean over loops), then one range spectrum per
@@ -404,11 +404,11 @@ pub fn class_code(class: &str) -> u8 {
     }
 }
 
-/// The module's hint for `obj` as it arrives over the link ([`Hint::to_object`] of its wire
+/// The module's hint for `obj` as it arrives over the link ([`ObjectHint::from_wire`] of its wire
 /// form): id, class, sin-azimuth span, monocular prior and contour (a flat one across the span
 /// where the mask has no usable depth, e.g. beyond the 256 m a depth PNG holds).
 pub fn hint(obj: &CameraObject) -> Option<ObjectHint> {
-    wire_hint(0, obj).map(|h| h.to_object())
+    wire_hint(0, obj).map(|h| ObjectHint::from_wire(&h))
 }
 
 /// The wire form of `obj`'s hint for frame `frame`.
@@ -425,7 +425,7 @@ pub fn wire_hint(frame: u32, obj: &CameraObject) -> Option<Hint> {
         prior_m: obj.closest_range().unwrap_or(0.0) as f32,
         contour: c,
     };
-    Some(Hint::from_object(frame, &exact))
+    Some(exact.to_wire(frame))
 }
 
 /// An object's search problem after clutter cancellation: what both searches run on.
@@ -483,13 +483,11 @@ pub fn estimate(
     scene: &mut StaticScene,
     moving: Option<&MovingScene>,
     obj: &CameraObject,
-) -> ObjectResult {
+) -> ObjectEstimate {
     let Some(p) = prepare(scene, obj) else {
-        return ObjectResult::missed(obj);
+        return ObjectEstimate::missed(obj);
     };
-    let on_module = fast_search(scene, &p)
-        .ok()
-        .map(|r| WireResult::from_report(&p.hint, &r));
+    let on_module = fast_search(scene, &p).ok().map(|r| r.to_wire(&p.hint));
     merge(obj, &p.hint, on_module, moving)
 }
 
@@ -503,11 +501,11 @@ pub fn merge(
     hint: &ObjectHint,
     on_module: Option<WireResult>,
     moving: Option<&MovingScene>,
-) -> ObjectResult {
+) -> ObjectEstimate {
     let mut best = on_module;
     if let Some(found) = moving
         .and_then(|mv| mv.search(hint))
-        .map(|r| WireResult::from_report(hint, &r))
+        .map(|r| r.to_wire(hint))
     {
         if best.is_none_or(|b| found.confidence > b.confidence) {
             best = Some(found);
@@ -517,11 +515,11 @@ pub fn merge(
         Some(r) if r.detected() => {
             let depth = r.depth_m();
             let points = reject_edges(obj.anchored(depth));
-            ObjectResult {
+            ObjectEstimate {
                 confidence_db: Some(r.confidence as f64 / 4.0),
-                ..ObjectResult::found(obj, depth, obj.median_azimuth(), points)
+                ..ObjectEstimate::found(obj, depth, obj.median_azimuth(), points)
             }
         }
-        _ => ObjectResult::missed(obj),
+        _ => ObjectEstimate::missed(obj),
     }
 }

@@ -1,7 +1,7 @@
 //! The naive radar–camera baseline (Metamoran, Sec. V): the mask's azimuth span bounds standard
 //! FMCW range–azimuth processing, and the strongest reflector inside the span is the object.
 
-use super::ObjectResult;
+use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::frame::FrameProcessor;
 use dsp::config::azimuth_bin_to_angle;
@@ -58,9 +58,9 @@ impl RangeAzimuth {
 }
 
 /// The naive estimate for one object.
-pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) -> ObjectResult {
+pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) -> ObjectEstimate {
     let Some((lo, hi)) = obj.span else {
-        return ObjectResult::missed(obj);
+        return ObjectEstimate::missed(obj);
     };
     let cols = ra.indices_in(lo, hi);
     let mut best = (0.0f32, 0usize, 0usize);
@@ -74,7 +74,7 @@ pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) ->
     }
     let (_, b, k) = best;
     if b == 0 {
-        return ObjectResult::missed(obj);
+        return ObjectEstimate::missed(obj);
     }
     let at = |bb: usize| 20.0 * ra.map[bb * ra.az_len + k].max(1e-30).log10();
     let off = if b + 1 < ra.bins {
@@ -86,5 +86,5 @@ pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) ->
     let depth = c.bin_to_range(RangeBin(b as f32 + off), ra.bins).0 as f64;
     let azimuth = azimuth_bin_to_angle(AzimuthBin(signed_bin(k, ra.az_len) as f32), ra.az_len)
         .map(|a| a.0 as f64);
-    ObjectResult::found(obj, depth, azimuth, obj.anchored(depth))
+    ObjectEstimate::found(obj, depth, azimuth, obj.anchored(depth))
 }

@@ -3,7 +3,7 @@
 
 use crate::frame::{FrameOptions, FrameProcessor};
 use dsp::config::RadarConfig;
-use dsp::detect::{Cfar, Cfar2d, CfarKind, Edge, is_local_max, quadratic_offset};
+use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind, is_local_max, quadratic_offset};
 use dsp::units::{DopplerBin, RangeBin, signed_bin};
 use dsp::window::WindowKind;
 use metamoran_bundle::RadarFile;
@@ -65,7 +65,7 @@ pub struct MovingTarget {
 
 /// Summary of one frame.
 #[derive(Clone, Debug, Serialize)]
-pub struct FrameSummary {
+pub struct FrameReport {
     /// Frame number.
     pub frame: u32,
     /// Strongest range-profile peaks, strongest first.
@@ -82,7 +82,7 @@ pub struct Summary {
     /// Geometry.
     pub config: ConfigSummary,
     /// Per frame.
-    pub frames: Vec<FrameSummary>,
+    pub frames: Vec<FrameReport>,
 }
 
 /// How many peaks and targets to report per frame.
@@ -154,14 +154,14 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             train: 8,
             scale: 4.0,
             kind: CfarKind::OrderedStatistic { rank: 0.75 },
-            edge: Edge::Truncate,
+            boundary: Boundary::Truncate,
         };
         let cfar = Cfar2d {
             rows: axis,
             cols: Cfar {
                 guard: 1,
                 train: 4,
-                edge: Edge::Wrap,
+                boundary: Boundary::Wrap,
                 ..axis
             },
         };
@@ -203,7 +203,7 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
                 snr_db: db(h.value / h.threshold) + db(axis.scale),
             });
         }
-        frames.push(FrameSummary {
+        frames.push(FrameReport {
             frame: f,
             range_peaks,
             moving_targets,

@@ -164,7 +164,7 @@ pub fn run(firmware: &Path) -> Result<Budget, String> {
 
 /// Stack high-water mark of the `edge` firmware over a session on a simulated cascade bundle.
 fn edge_stack(firmware: &Path) -> Result<u64, String> {
-    use metamoran_process::{Mode, Module, ProcessOptions, process_streamed};
+    use metamoran_process::{Mode, ProcessOptions, Runner, process_streamed};
     use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
     let dir = std::env::temp_dir().join(format!("metamoran-budget-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -183,7 +183,7 @@ fn edge_stack(firmware: &Path) -> Result<u64, String> {
         .find(|p| p.is_dir())
         .ok_or("the simulator wrote no bundle")?;
     let options = ProcessOptions {
-        module: Module::Qemu {
+        runner: Runner::Qemu {
             firmware: firmware.to_owned(),
             key: Key::new(&DEV_KEY),
         },
@@ -200,7 +200,7 @@ fn edge_stack(firmware: &Path) -> Result<u64, String> {
 
 impl std::fmt::Display for Budget {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(f, "Module budgets ({})", self.method)?;
+        writeln!(f, "Runner budgets ({})", self.method)?;
         writeln!(
             f,
             "flash        {:>10} B  ({:.1} % of 2 MiB)",

@@ -2,7 +2,7 @@
 //! (the paper's conventional completion) on the same drive submaps, measured in one run, and the
 //! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal.
 
-use metamoran_map::{depth, network::Network, odometry};
+use metamoran_map::{depth, network::CompletionNetwork, odometry};
 use metamoran_sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
 use serde::Serialize;
 use std::time::Instant;
@@ -46,7 +46,7 @@ fn per_run(mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
 /// # Errors
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
 pub fn run() -> Result<NetworkReport, String> {
-    let network = Network::load(None)?;
+    let network = CompletionNetwork::load(None)?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(
         Preset::Drive,

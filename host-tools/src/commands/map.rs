@@ -2,7 +2,7 @@
 
 use super::odometry::figure;
 use metamoran_map::report::MapReport;
-use metamoran_map::{cylinder, depth, network::Network, report};
+use metamoran_map::{cylinder, depth, network::CompletionNetwork, report};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -43,7 +43,7 @@ pub struct Args {
 /// A bad bundle or model, or images that cannot be written.
 pub fn run(args: &Args) -> super::Result {
     let network = (!args.no_network)
-        .then(|| Network::load(args.model.as_deref()))
+        .then(|| CompletionNetwork::load(args.model.as_deref()))
         .transpose()?;
     let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
     let (report, odometry, images) = report::run(

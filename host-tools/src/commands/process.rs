@@ -1,7 +1,7 @@
 //! `metamoran process`: each object of interest's depth in every frame of a bundle (cli.md).
 
 use super::args::{BundleArgs, Locations, ModeArg};
-use metamoran_process::{Module, ProcessOptions, ProcessOutput, process_streamed};
+use metamoran_process::{ProcessOptions, ProcessOutput, Runner, process_streamed};
 use std::fmt;
 use std::path::PathBuf;
 
@@ -56,9 +56,9 @@ pub struct Args {
 /// A bad bundle, model, key or output folder, or a module that cannot run.
 pub fn run(args: &Args, locations: &Locations) -> super::Result {
     let open = args.read.options()?;
-    let module = match args.edge {
-        EdgeArg::InProcess => Module::InProcess,
-        EdgeArg::Qemu => Module::Qemu {
+    let runner = match args.edge {
+        EdgeArg::InProcess => Runner::InProcess,
+        EdgeArg::Qemu => Runner::Qemu {
             firmware: locations.firmware()?,
             key: match &args.link_key {
                 Some(hex) => {
@@ -71,7 +71,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
     let options = ProcessOptions {
         mode: args.mode.into(),
         open,
-        module,
+        runner,
     };
     let (out, log) = process_streamed(&args.bundle, &options, |_| Ok(()))?;
     if let Some(path) = &args.edge_log {

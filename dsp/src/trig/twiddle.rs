@@ -4,8 +4,8 @@
 //! (`W_N^k = W_2048^(k·2048/N)`); it also backs [`crate::trig::expj_neg`].
 //! Flash cost: 8 KiB (Q15) + 16 KiB (Q31).
 
+use super::cos_sin_turn;
 use crate::fixed::{CQ15, CQ31, Complex, Q15, Q31};
-use crate::trig::cos_sin_turn;
 
 /// Entries in each table: the largest supported FFT length.
 pub const TABLE_LEN: usize = 2048;

@@ -3,10 +3,13 @@
 //! Twiddle factors, windows and steering vectors all come from here. [`cos_sin_turn`] is a
 //! `const fn` (range reduction on exact integers, then a Taylor series on at most π/4), so every
 //! table is built by the compiler, identical on x86 and the Cortex-M7. [`expj_neg`] rotates by a
-//! binary angle at run time through the FFT's twiddle table with linear interpolation.
+//! binary angle at run time through the twiddle table ([`twiddle`], which the FFTs stride) with
+//! linear interpolation.
 
-use crate::fft::twiddle::{TABLE_LEN, TWIDDLE_Q15};
+pub mod twiddle;
+
 use crate::fixed::{CQ15, Complex, Q15};
+use twiddle::{TABLE_LEN, TWIDDLE_Q15};
 
 const FRAC_PI_2: f64 = core::f64::consts::FRAC_PI_2;
 
