@@ -66,10 +66,14 @@ fn bad_models_are_clear_errors() {
     let Some((_keep, dir)) = models() else { return };
     let junk = dir.join("junk.onnx");
     std::fs::write(&junk, b"not a model").unwrap();
-    let err = CameraModels::load(Some(&junk), None).unwrap_err();
+    let err = CameraModels::load(Some(&junk), None)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("junk.onnx") && err.contains("ONNX"), "{err}");
     // A depth network used as a segmenter has no labels.
-    let err = CameraModels::load(Some(&dir.join("depth.onnx")), None).unwrap_err();
+    let err = CameraModels::load(Some(&dir.join("depth.onnx")), None)
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("depth.onnx") && err.contains("labels"),
         "{err}"

@@ -21,7 +21,7 @@ fn json(dir: &Path, runner: Runner) -> Result<String, String> {
         runner,
         ..ProcessOptions::mode(Mode::Metamoran)
     };
-    let out = process(dir, &options)?;
+    let out = process(dir, &options).map_err(|e| e.to_string())?;
     Ok(serde_json::to_string(&out).unwrap())
 }
 

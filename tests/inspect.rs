@@ -83,6 +83,7 @@ fn inspect_and_process_out_show_what_the_module_decided() {
     assert!(
         inspect::run(bundle, 99, &out, OpenOptions::default())
             .unwrap_err()
+            .to_string()
             .contains("frame 99")
     );
 

@@ -164,6 +164,6 @@ fn demo_publishes_objects_alerts_status_and_last_will() {
     // A broker that is not there is a clear error, not a hang.
     drop(broker);
     let gone = MqttConfig::parse(&format!("127.0.0.1:{port}"), "gate").unwrap();
-    let err = Publisher::connect(&gone).err().unwrap();
+    let err = Publisher::connect(&gone).err().unwrap().to_string();
     assert!(err.contains(&format!("127.0.0.1:{port}")), "{err}");
 }

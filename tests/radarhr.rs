@@ -86,7 +86,10 @@ fn tract_runs_the_shipped_network_as_numpy_does() {
 fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
     let (_keep, dirs) = drives(41, 3);
     let net = RadarHr::shipped().unwrap();
-    let complete = |r: &[f32]| net.complete(r).map_err(|e| e.to_string());
+    let complete = |r: &[f32]| {
+        net.complete(r)
+            .map_err(|e| metamoran_map::MapError::Network(e.to_string()))
+    };
     let (mut network_mae, mut submap_mae) = (0.0, 0.0);
     for dir in &dirs {
         let (rep, _, images) = report::run(dir, &MOUNT, Some(&complete)).unwrap();

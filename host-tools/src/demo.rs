@@ -180,7 +180,7 @@ impl Operator<'_> {
     }
 
     /// Folds in one frame: zones and alerts, MQTT, the view.
-    fn frame(&mut self, e: FrameEvent<'_>) -> Result<(), String> {
+    fn frame(&mut self, e: FrameEvent<'_>) -> Result<(), crate::Error> {
         let f = e.result;
         let time_s = f64::from(f.frame) * self.period_s;
         let alerts = self.fence.update(f.frame, time_s, &f.objects);
@@ -228,7 +228,7 @@ pub struct DemoOptions {
 ///
 /// # Errors
 /// A message saying what failed and what to do.
-pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
+pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error> {
     let DemoOptions {
         edge,
         firmware,
@@ -301,7 +301,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, String> {
             runner,
         };
         let r = process_streamed(bundle, &options, |e| op.frame(e))?;
-        Ok::<_, String>((r, op.state))
+        Ok::<_, crate::Error>((r, op.state))
     };
     let ((output, log), state) = match (edge, qemu) {
         (DemoEdge::InProcess, _) => {

@@ -12,6 +12,10 @@
 pub mod bench;
 pub mod demo;
 
+/// What the demo and the benchmarks fail with: any host crate's error, or a message of their
+/// own (they sit at the binary's edge, where strings are allowed).
+pub type Error = Box<dyn std::error::Error + Send + Sync>;
+
 /// The shared data folder (real captures) of the checkout this runs in: the first `shared/`
 /// holding `data/` beside the current folder or one of its parents. `None` outside a checkout
 /// (the binary then takes `--shared DIR` or `METAMORAN_SHARED`).

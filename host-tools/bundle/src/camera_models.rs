@@ -117,12 +117,12 @@ impl CameraModels {
     /// Loads the models given (`None` if neither is).
     ///
     /// # Errors
-    /// A message naming the model file that cannot be loaded or breaks the contract, or saying
-    /// how to build with ONNX support.
+    /// [`InputError::Model`] naming the model file that cannot be loaded or breaks the
+    /// contract, or [`InputError::NoOnnx`] in a build without ONNX support.
     pub fn load(
         segmenter: Option<&Path>,
         depth: Option<&Path>,
-    ) -> Result<Option<Arc<Self>>, String> {
+    ) -> Result<Option<Arc<Self>>, InputError> {
         if segmenter.is_none() && depth.is_none() {
             return Ok(None);
         }
@@ -131,11 +131,11 @@ impl CameraModels {
             let segmenter = segmenter
                 .map(metamoran_vision::Segmenter::load)
                 .transpose()
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| InputError::Model(e.to_string()))?;
             let depth = depth
                 .map(metamoran_vision::DepthNetwork::load)
                 .transpose()
-                .map_err(|e| e.to_string())?;
+                .map_err(|e| InputError::Model(e.to_string()))?;
             Ok(Some(Arc::new(Self {
                 segments: segmenter.is_some(),
                 estimates_depth: depth.is_some(),
@@ -145,9 +145,7 @@ impl CameraModels {
         }
         #[cfg(not(feature = "onnx"))]
         {
-            Err("this metamoran was built without ONNX support; build it with \
-                 `cargo build --release -p metamoran --features onnx` to use --segmenter or --depth-model"
-                .into())
+            Err(InputError::NoOnnx)
         }
     }
 

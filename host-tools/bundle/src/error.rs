@@ -33,6 +33,22 @@ pub enum InputError {
         /// What is wrong and what is expected.
         problem: String,
     },
+    /// A bundle file (or its folder) could not be written.
+    #[error("{}: cannot write ({source}); check the folder exists and is writable", path.display())]
+    Write {
+        /// The file or folder.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// A camera model could not be loaded or breaks its contract.
+    #[error("{0}")]
+    Model(String),
+    /// A camera model was given to a build without ONNX support.
+    #[error(
+        "this metamoran was built without ONNX support; build it with `cargo build --release -p metamoran --features onnx` to use --segmenter or --depth-model"
+    )]
+    NoOnnx,
     /// The file as a whole is wrong (size, image format, …).
     #[error("{}: {problem}", path.display())]
     File {
@@ -58,6 +74,14 @@ impl InputError {
             path: path.to_owned(),
             field: field.into(),
             problem: problem.into(),
+        }
+    }
+
+    /// `path` could not be written.
+    pub fn write(path: &Path, source: std::io::Error) -> Self {
+        Self::Write {
+            path: path.to_owned(),
+            source,
         }
     }
 

@@ -66,8 +66,8 @@ pub fn scan(hit: impl Fn([f64; 3]) -> Option<f64>) -> Vec<[f64; 3]> {
 /// Writes points as a binary little-endian PLY.
 ///
 /// # Errors
-/// A message naming the file.
-pub fn write(path: &Path, points: &[[f64; 3]]) -> Result<(), String> {
+/// [`InputError::Write`] naming the file or folder.
+pub fn write(path: &Path, points: &[[f64; 3]]) -> Result<(), InputError> {
     let header = format!(
         "ply\nformat binary_little_endian 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
         points.len()
@@ -79,10 +79,9 @@ pub fn write(path: &Path, points: &[[f64; 3]]) -> Result<(), String> {
         }
     }
     if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("{}: cannot create ({e})", dir.display()))?;
+        std::fs::create_dir_all(dir).map_err(|e| InputError::write(dir, e))?;
     }
-    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
+    std::fs::write(path, bytes).map_err(|e| InputError::write(path, e))
 }
 
 /// Reads a PLY written by [`write`](fn@write).

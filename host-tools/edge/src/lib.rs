@@ -5,5 +5,8 @@
 //! It depends only on `dsp` (the wire format and the radar config): processing crates call it,
 //! it calls none of them.
 
+mod error;
 pub mod link;
 pub mod qemu;
+
+pub use error::EdgeError;

@@ -4,7 +4,7 @@
 //! per frame the hints and a `Frame` message, then the per-object results until the frame's
 //! summary.
 
-use crate::qemu;
+use crate::{EdgeError, qemu};
 use dsp::config::RadarConfig;
 use dsp::wire::{
     Deframer, Downlink, Fault, Health, Hint, Key, LinkError, MAX_WIRE, ObjectResult, Receiver,
@@ -88,23 +88,26 @@ impl QemuEdge {
     /// `radar.bin`, read by the module as the radar board's stream), under link key `key`.
     ///
     /// # Errors
-    /// A message if the build, QEMU or the first message fails.
-    pub fn start(capture: &Path, key: Key, firmware: &Path) -> Result<Self, String> {
-        let capture = capture
-            .canonicalize()
-            .map_err(|e| format!("{}: {e}", capture.display()))?;
+    /// [`EdgeError`] if the build, QEMU or the first message fails.
+    pub fn start(capture: &Path, key: Key, firmware: &Path) -> Result<Self, EdgeError> {
+        let capture = capture.canonicalize().map_err(|source| EdgeError::File {
+            path: capture.to_owned(),
+            source,
+        })?;
         let elf = qemu::build(firmware, "edge")?;
         // QEMU's option syntax and the semihosting command line split on commas and spaces:
         // hand the module a plain path.
         let port = TcpListener::bind("127.0.0.1:0")
             .and_then(|l| l.local_addr())
-            .map_err(|e| format!("no free loopback port: {e}"))?
+            .map_err(EdgeError::Port)?
             .port();
         let link =
             std::env::temp_dir().join(format!("metamoran-edge-{}-{port}.bin", std::process::id()));
         let _ = std::fs::remove_file(&link);
-        std::os::unix::fs::symlink(&capture, &link)
-            .map_err(|e| format!("{}: {e}", link.display()))?;
+        std::os::unix::fs::symlink(&capture, &link).map_err(|source| EdgeError::File {
+            path: link.clone(),
+            source,
+        })?;
         let child = Command::new("qemu-system-arm")
             .args(["-machine", "mps2-an500", "-cpu", "cortex-m7", "-nographic"])
             .args(["-monitor", "none"])
@@ -121,9 +124,7 @@ impl QemuEdge {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| {
-                format!("cannot start qemu-system-arm ({e}): apt-get install -y qemu-system-arm")
-            })?;
+            .map_err(EdgeError::QemuMissing)?;
         let key2 = key.clone();
         let mut edge = Self {
             child,
@@ -137,15 +138,15 @@ impl QemuEdge {
         };
         match edge.receive()? {
             Uplink::Hello { .. } => Ok(edge),
-            other => Err(format!("the module did not say hello first: {other:?}")),
+            other => Err(EdgeError::NoHello(format!("{other:?}"))),
         }
     }
 
     /// Sends the radar configuration.
     ///
     /// # Errors
-    /// A message if the link fails or the module rejects it.
-    pub fn configure(&mut self, config: &RadarConfig) -> Result<(), String> {
+    /// [`EdgeError`] if the link fails or the module rejects it.
+    pub fn configure(&mut self, config: &RadarConfig) -> Result<(), EdgeError> {
         self.send(&Downlink::Config(config.clone()))?;
         // The module answers a rejected configuration with a fault; ask for health to sync.
         self.send(&Downlink::Health)?;
@@ -153,9 +154,7 @@ impl QemuEdge {
             match self.receive()? {
                 Uplink::Health(_) => break,
                 Uplink::Fault { fault, .. } => {
-                    return Err(format!(
-                        "the module rejected the radar configuration ({fault:?}): it takes at most 1024 samples per chirp and frames whose sums fit its 352 KiB arena"
-                    ));
+                    return Err(EdgeError::Config(fault));
                 }
                 _ => {}
             }
@@ -167,12 +166,12 @@ impl QemuEdge {
     /// reported a fault for it).
     ///
     /// # Errors
-    /// A message if the link fails.
+    /// [`EdgeError`] if the link fails.
     pub fn frame(
         &mut self,
         frame: u32,
         hints: &[Hint],
-    ) -> Result<Vec<Option<ObjectResult>>, String> {
+    ) -> Result<Vec<Option<ObjectResult>>, EdgeError> {
         for h in hints {
             self.send(&Downlink::Hint(h.clone()))?;
         }
@@ -194,7 +193,7 @@ impl QemuEdge {
                     if matches!(fault, Fault::Capture | Fault::NoConfig | Fault::Config)
                         && f == frame
                     {
-                        return Err(format!("the module could not run frame {frame}: {fault:?}"));
+                        return Err(EdgeError::Frame { frame, fault });
                     }
                 }
                 _ => {}
@@ -205,8 +204,8 @@ impl QemuEdge {
     /// Stops the module and collects its counters and console.
     ///
     /// # Errors
-    /// A message if the module does not stop cleanly.
-    pub fn stop(mut self) -> Result<EdgeLog, String> {
+    /// [`EdgeError`] if the module does not stop cleanly.
+    pub fn stop(mut self) -> Result<EdgeLog, EdgeError> {
         self.send(&Downlink::Stop)?;
         let health = loop {
             if let Uplink::Health(h) = self.receive()? {
@@ -215,11 +214,11 @@ impl QemuEdge {
         };
         let deadline = Instant::now() + Duration::from_secs(10);
         let status = loop {
-            if let Some(s) = self.child.try_wait().map_err(|e| e.to_string())? {
+            if let Some(s) = self.child.try_wait().map_err(EdgeError::Wait)? {
                 break s;
             }
             if Instant::now() > deadline {
-                return Err("the module did not exit after Stop".into());
+                return Err(EdgeError::NoExit);
             }
             std::thread::sleep(Duration::from_millis(20));
         };
@@ -228,10 +227,10 @@ impl QemuEdge {
             let _ = o.read_to_end(&mut defmt);
         }
         if !status.success() {
-            return Err(format!(
-                "the module exited with {status}:\n{}",
-                decode_defmt(&self.elf, &defmt)
-            ));
+            return Err(EdgeError::Exit {
+                status,
+                log: decode_defmt(&self.elf, &defmt),
+            });
         }
         Ok(EdgeLog {
             health,
@@ -240,26 +239,22 @@ impl QemuEdge {
         })
     }
 
-    fn send(&mut self, msg: &Downlink) -> Result<(), String> {
+    fn send(&mut self, msg: &Downlink) -> Result<(), EdgeError> {
         let mut buf = [0u8; MAX_WIRE];
         let n = self
             .sender
             .encode(msg, &mut buf)
-            .map_err(|e| e.to_string())?;
-        self.stream
-            .write_all(&buf[..n])
-            .map_err(|e| format!("link to the module: {e}"))
+            .map_err(EdgeError::Encode)?;
+        self.stream.write_all(&buf[..n]).map_err(EdgeError::Link)
     }
 
     /// The next authentic uplink message; rejected frames are counted and skipped.
-    fn receive(&mut self) -> Result<Uplink, String> {
+    fn receive(&mut self) -> Result<Uplink, EdgeError> {
         let deadline = Instant::now() + ANSWER_TIMEOUT;
         let mut byte = [0u8; 1];
         loop {
             if Instant::now() > deadline {
-                return Err(format!(
-                    "the module did not answer within {ANSWER_TIMEOUT:?}"
-                ));
+                return Err(EdgeError::Silent(ANSWER_TIMEOUT));
             }
             match self.stream.read(&mut byte) {
                 Ok(0) => return Err(self.died()),
@@ -272,15 +267,13 @@ impl QemuEdge {
                 {
                     continue;
                 }
-                Err(e) => return Err(format!("link to the module: {e}")),
+                Err(e) => return Err(EdgeError::Link(e)),
             }
             match self.deframer.push(byte[0]) {
                 Some(Ok(frame)) => match self.receiver.open::<Uplink>(frame) {
                     Ok(m) => return Ok(m),
                     Err(e @ LinkError::Tag) if self.receiver.stats().accepted == 0 => {
-                        return Err(format!(
-                            "the module's first frame failed authentication ({e}): give --link-key the key the firmware was built with"
-                        ));
+                        return Err(EdgeError::Key(e));
                     }
                     Err(_) => {}
                 },
@@ -291,7 +284,7 @@ impl QemuEdge {
     }
 
     /// Why the link closed, from QEMU's output.
-    fn died(&mut self) -> String {
+    fn died(&mut self) -> EdgeError {
         let _ = self.child.wait();
         let mut log = Vec::new();
         if let Some(mut o) = self.child.stdout.take() {
@@ -301,7 +294,7 @@ impl QemuEdge {
         if let Some(mut e) = self.child.stderr.take() {
             let _ = e.read_to_string(&mut text);
         }
-        format!("the module closed the link:\n{text}")
+        EdgeError::Closed(text)
     }
 
     /// The host side's receive counters.
@@ -319,18 +312,18 @@ impl Drop for QemuEdge {
 }
 
 /// Connects to QEMU's serial socket, waiting for it to listen.
-fn connect(port: u16) -> Result<TcpStream, String> {
+fn connect(port: u16) -> Result<TcpStream, EdgeError> {
     let deadline = Instant::now() + Duration::from_secs(20);
     loop {
         match TcpStream::connect(("127.0.0.1", port)) {
             Ok(s) => {
                 s.set_read_timeout(Some(Duration::from_millis(200)))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(EdgeError::Link)?;
                 let _ = s.set_nodelay(true);
                 return Ok(s);
             }
             Err(_) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(50)),
-            Err(e) => return Err(format!("QEMU's UART socket on port {port}: {e}")),
+            Err(source) => return Err(EdgeError::Connect { port, source }),
         }
     }
 }

@@ -3,6 +3,7 @@
 //! The firmware is its own Cargo workspace in `firmware/` (see its manifest); binaries talk to
 //! the host through semihosting and end QEMU with their exit code.
 
+use crate::EdgeError;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
@@ -32,19 +33,20 @@ pub fn find_firmware() -> Option<PathBuf> {
 /// path.
 ///
 /// # Errors
-/// A message with cargo's output if the build fails.
-pub fn build(firmware: &Path, bin: &str) -> Result<PathBuf, String> {
+/// [`EdgeError`] with cargo's output if the build fails.
+pub fn build(firmware: &Path, bin: &str) -> Result<PathBuf, EdgeError> {
     let dir = firmware;
     let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
         .current_dir(dir)
         .args(["build", "--release", "--target", TARGET, "--bin", bin])
         .output()
-        .map_err(|e| format!("cannot run cargo: {e}"))?;
+        .map_err(EdgeError::Cargo)?;
     if !out.status.success() {
-        return Err(format!(
-            "building firmware binary {bin} failed (is the target installed? rustup target add {TARGET}):\n{}",
-            String::from_utf8_lossy(&out.stderr)
-        ));
+        return Err(EdgeError::Build {
+            bin: bin.to_owned(),
+            target: TARGET,
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        });
     }
     Ok(dir.join("target").join(TARGET).join("release").join(bin))
 }
@@ -53,8 +55,8 @@ pub fn build(firmware: &Path, bin: &str) -> Result<PathBuf, String> {
 /// returns what it printed. Gives up after `timeout`.
 ///
 /// # Errors
-/// A message if QEMU is missing, times out, or the firmware exits with failure.
-pub fn run(elf: &Path, icount: bool, timeout: Duration) -> Result<String, String> {
+/// [`EdgeError`] if QEMU is missing, times out, or the firmware exits with failure.
+pub fn run(elf: &Path, icount: bool, timeout: Duration) -> Result<String, EdgeError> {
     let mut cmd = Command::new("timeout");
     cmd.arg(timeout.as_secs().max(1).to_string())
         .args([
@@ -75,19 +77,19 @@ pub fn run(elf: &Path, icount: bool, timeout: Duration) -> Result<String, String
         .arg("-kernel")
         .arg(elf)
         .output()
-        .map_err(|e| format!("cannot run QEMU: {e}"))?;
+        .map_err(EdgeError::QemuMissing)?;
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
     match out.status.code() {
         Some(0) => Ok(stdout),
-        Some(124) => Err(format!(
-            "QEMU timed out after {timeout:?}; output so far:\n{stdout}"
-        )),
-        Some(127) => Err("qemu-system-arm not found: apt-get install -y qemu-system-arm".into()),
-        _ => Err(format!(
-            "firmware {} failed under QEMU ({}):\n{stdout}{}",
-            elf.display(),
-            out.status,
-            String::from_utf8_lossy(&out.stderr)
-        )),
+        Some(124) => Err(EdgeError::Timeout {
+            after: timeout,
+            output: stdout,
+        }),
+        Some(127) => Err(EdgeError::QemuMissing(std::io::ErrorKind::NotFound.into())),
+        _ => Err(EdgeError::Failed {
+            elf: elf.to_owned(),
+            status: out.status,
+            output: stdout + &String::from_utf8_lossy(&out.stderr),
+        }),
     }
 }

@@ -1,5 +1,6 @@
 //! Radar point clouds of a bundle's frames, with the module's `dsp` processing.
 
+use crate::MapError;
 use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
 use dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
 use dsp::window::WindowKind;
@@ -40,12 +41,14 @@ impl Clouds {
     /// For `bundle`'s radar, its antennas' elevations and `options`.
     ///
     /// # Errors
-    /// A message if the array or configuration cannot give point clouds.
-    pub fn new(bundle: &Bundle, options: CloudOptions) -> Result<Self, String> {
+    /// [`MapError`] if the array or configuration cannot give point clouds.
+    pub fn new(bundle: &Bundle, options: CloudOptions) -> Result<Self, MapError> {
         let scene = &bundle.scene;
-        let geometry =
-            ArrayGeometry::new(&scene.radar, &scene.tx_elevation, &scene.rx_elevation)
-                .map_err(|e| format!("{}: {e}", bundle.dir().join("scene.toml").display()))?;
+        let geometry = ArrayGeometry::new(&scene.radar, &scene.tx_elevation, &scene.rx_elevation)
+            .map_err(|source| MapError::Geometry {
+            scene: bundle.dir().join("scene.toml"),
+            source,
+        })?;
         let processor = FrameProcessor::new(
             &scene.radar,
             FrameOptions {
@@ -65,13 +68,12 @@ impl Clouds {
     /// The points of frame `frame`.
     ///
     /// # Errors
-    /// A message naming the file if the frame cannot be read.
-    pub fn frame(&mut self, bundle: &mut Bundle, frame: u32) -> Result<Vec<RadarPoint>, String> {
-        bundle
-            .read_radar_frame(frame, &mut self.samples)
-            .map_err(|e| e.to_string())?;
+    /// [`MapError`] naming the file if the frame cannot be read.
+    pub fn frame(&mut self, bundle: &mut Bundle, frame: u32) -> Result<Vec<RadarPoint>, MapError> {
+        bundle.read_radar_frame(frame, &mut self.samples)?;
         let spectra = self.processor.process(&self.samples)?;
-        self.processor
-            .points(&spectra, &self.geometry, &self.options)
+        Ok(self
+            .processor
+            .points(&spectra, &self.geometry, &self.options)?)
     }
 }

@@ -6,11 +6,12 @@
 use super::cylinder::DepthImage;
 use super::odometry::Odometry;
 use super::submap::accumulate;
+use crate::MapError;
 use std::path::Path;
 
 /// A network that completes a submap's depth image: row-major ranges (m, 0 = empty) in, the
 /// dense image out, or a message naming the model. See `metamoran_vision::RadarHr`.
-pub type Completion<'a> = &'a dyn Fn(&[f32]) -> Result<Vec<f32>, String>;
+pub type Completion<'a> = &'a dyn Fn(&[f32]) -> Result<Vec<f32>, MapError>;
 
 /// One frame's depth images.
 #[derive(Clone, Debug)]
@@ -45,13 +46,13 @@ pub fn submap(odometry: &Odometry, k: usize) -> (DepthImage, DepthImage, Vec<[f6
 /// The lidar truth's depth image of frame `k` of the bundle in `dir`, if it has one.
 ///
 /// # Errors
-/// A message naming a lidar file that cannot be read.
-pub fn lidar(dir: &Path, k: u32) -> Result<Option<DepthImage>, String> {
+/// [`MapError`] naming a lidar file that cannot be read.
+pub fn lidar(dir: &Path, k: u32) -> Result<Option<DepthImage>, MapError> {
     let file = metamoran_bundle::lidar::path(dir, k);
     if !file.exists() {
         return Ok(None);
     }
-    let points = metamoran_bundle::lidar::read(&file).map_err(|e| e.to_string())?;
+    let points = metamoran_bundle::lidar::read(&file)?;
     Ok(Some(DepthImage::project(points)))
 }
 
@@ -63,7 +64,7 @@ pub fn last(
     dir: &Path,
     odometry: &Odometry,
     network: Option<Completion>,
-) -> Result<Option<DepthImages>, String> {
+) -> Result<Option<DepthImages>, MapError> {
     let Some(k) = odometry.tracked.len().checked_sub(1) else {
         return Ok(None);
     };
@@ -92,7 +93,7 @@ pub fn last(
 pub fn training_pairs(
     dir: &Path,
     odometry: &Odometry,
-) -> Result<Vec<(u32, DepthImage, DepthImage)>, String> {
+) -> Result<Vec<(u32, DepthImage, DepthImage)>, MapError> {
     let mut pairs = Vec::new();
     for k in 0..odometry.tracked.len() {
         if let Some(truth) = lidar(dir, k as u32)? {

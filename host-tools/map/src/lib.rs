@@ -9,8 +9,11 @@
 pub mod cloud;
 pub mod cylinder;
 pub mod depth;
+mod error;
 pub mod ip_basic;
 pub mod network;
 pub mod odometry;
 pub mod report;
 pub mod submap;
+
+pub use error::MapError;

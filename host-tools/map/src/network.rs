@@ -2,6 +2,7 @@
 //! shipped in the vision crate, or another ONNX file. Needs the `onnx` feature; without it,
 //! loading says how to build with it.
 
+use crate::MapError;
 use std::path::Path;
 
 /// A loaded depth-completion network.
@@ -17,27 +18,22 @@ impl CompletionNetwork {
     /// The ONNX model at `path`, or the shipped one.
     ///
     /// # Errors
-    /// A message naming the model that cannot be loaded or breaks the contract, or saying how
+    /// [`MapError`] naming the model that cannot be loaded or breaks the contract, or saying how
     /// to build with ONNX support.
-    pub fn load(path: Option<&Path>) -> Result<Self, String> {
+    pub fn load(path: Option<&Path>) -> Result<Self, MapError> {
         #[cfg(feature = "onnx")]
         {
             let inner = match path {
                 Some(p) => metamoran_vision::RadarHr::load(p),
                 None => metamoran_vision::RadarHr::shipped(),
             }
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| MapError::Network(e.to_string()))?;
             Ok(Self { inner })
         }
         #[cfg(not(feature = "onnx"))]
         {
             let _ = path;
-            Err(
-                "this metamoran was built without ONNX support; build it with \
-                 `cargo build --release -p metamoran --features onnx` to run the 3D-RadarHR \
-                 network, or pass --no-network"
-                    .into(),
-            )
+            Err(MapError::NoOnnx)
         }
     }
 
@@ -45,10 +41,12 @@ impl CompletionNetwork {
     ///
     /// # Errors
     /// The model's message (wrong size, bad depth, inference failure).
-    pub fn complete(&self, range_m: &[f32]) -> Result<Vec<f32>, String> {
+    pub fn complete(&self, range_m: &[f32]) -> Result<Vec<f32>, MapError> {
         #[cfg(feature = "onnx")]
         {
-            self.inner.complete(range_m).map_err(|e| e.to_string())
+            self.inner
+                .complete(range_m)
+                .map_err(|e| MapError::Network(e.to_string()))
         }
         #[cfg(not(feature = "onnx"))]
         {

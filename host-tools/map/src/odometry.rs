@@ -4,6 +4,7 @@
 //! are what [`super::depth`] builds submaps from.
 
 use super::cloud::{Clouds, default_options};
+use crate::MapError;
 use dsp::ego::{DopplerDetection, Mount, Ransac, estimate};
 use metamoran_bundle::pose::Pose;
 use metamoran_bundle::{Bundle, OpenOptions};
@@ -50,9 +51,9 @@ pub struct Odometry {
 /// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
 ///
 /// # Errors
-/// A message naming the file and field of a bad bundle.
-pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, String> {
-    let mut bundle = Bundle::open(dir, OpenOptions::default()).map_err(|e| e.to_string())?;
+/// [`MapError`] naming the file and field of a bad bundle.
+pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, MapError> {
+    let mut bundle = Bundle::open(dir, OpenOptions::default())?;
     let mut clouds = Clouds::new(&bundle, default_options())?;
     let truth = bundle.truth.clone();
     let period = bundle.scene.radar.frame_period_s;

@@ -5,6 +5,7 @@
 use super::depth::{self, Completion, DepthImages};
 use super::odometry::{self, Odometry};
 use super::submap::density_growth;
+use crate::MapError;
 use dsp::ego::Mount;
 use serde::Serialize;
 use std::path::Path;
@@ -86,12 +87,12 @@ pub fn errors(images: &DepthImages) -> Option<(ImageErrors, ImageErrors)> {
 /// network's too, if given) and the report.
 ///
 /// # Errors
-/// A message naming the file and field of a bad bundle, or the network's.
+/// [`MapError`] naming the file and field of a bad bundle, or the network's.
 pub fn run(
     dir: &Path,
     mount: &Mount,
     network: Option<Completion>,
-) -> Result<(MapReport, Odometry, Option<DepthImages>), String> {
+) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
     let odometry = odometry::run(dir, mount)?;
     let images = depth::last(dir, &odometry, network)?;
     let network_fps = match (network, &images) {

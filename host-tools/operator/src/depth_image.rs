@@ -4,6 +4,7 @@
 //! KITTI: one `u16` per pixel, camera depth (along the optical axis) × 256, 0 where there is no
 //! measurement; the nearest point wins a pixel.
 
+use crate::OperatorError;
 use metamoran_bundle::geometry::{CameraModel, Point};
 use metamoran_process::FrameResult;
 use std::io::Write;
@@ -37,10 +38,9 @@ pub fn kitti_depth(camera: &CameraModel, frame: &FrameResult) -> Vec<u16> {
 /// Writes `img` (`width × height` KITTI values) as a 16-bit grayscale PNG.
 ///
 /// # Errors
-/// A message naming the file.
-pub fn write_png16(path: &Path, width: u32, height: u32, img: &[u16]) -> Result<(), String> {
-    let err =
-        |e: &dyn std::fmt::Display| format!("{}: cannot write the depth PNG ({e})", path.display());
+/// [`OperatorError::Output`] naming the file.
+pub fn write_png16(path: &Path, width: u32, height: u32, img: &[u16]) -> Result<(), OperatorError> {
+    let err = |e: &dyn std::fmt::Display| OperatorError::output(path, "write the depth PNG", e);
     let file = std::fs::File::create(path).map_err(|e| err(&e))?;
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     enc.set_color(png::ColorType::Grayscale);
@@ -54,9 +54,9 @@ pub fn write_png16(path: &Path, width: u32, height: u32, img: &[u16]) -> Result<
 /// Writes the frame's points as an ASCII PLY with `x y z` (float, m) and `instance` (int).
 ///
 /// # Errors
-/// A message naming the file.
-pub fn write_ply(path: &Path, frame: &FrameResult) -> Result<(), String> {
-    let err = |e: std::io::Error| format!("{}: cannot write the point cloud ({e})", path.display());
+/// [`OperatorError::Output`] naming the file.
+pub fn write_ply(path: &Path, frame: &FrameResult) -> Result<(), OperatorError> {
+    let err = |e: std::io::Error| OperatorError::output(path, "write the point cloud", e);
     let n: usize = frame.objects.iter().map(|o| o.points.len()).sum();
     let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
     write!(

@@ -17,6 +17,7 @@
 //! polygon = [[-8.0, 5.0], [8.0, 5.0], [8.0, 30.0], [-8.0, 30.0]]   # [x, z], m
 //! ```
 
+use crate::OperatorError;
 use metamoran_process::ObjectEstimate;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -58,22 +59,35 @@ impl Perimeter {
     /// Reads and checks a perimeter file.
     ///
     /// # Errors
-    /// A message naming the file and the field that is missing, malformed or out of range.
-    pub fn load(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            format!(
-                "{}: cannot read the perimeter file ({e}); give a TOML file as in the README",
-                path.display()
-            )
+    /// [`OperatorError::Perimeter`] naming the file and the field that is missing, malformed or
+    /// out of range.
+    pub fn load(path: &Path) -> Result<Self, OperatorError> {
+        let source_name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| OperatorError::Perimeter {
+            source_name: source_name.clone(),
+            problem: format!(
+                "cannot read the perimeter file ({e}); give a TOML file as in the README"
+            ),
         })?;
-        Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+        Self::parse_problem(&text).map_err(|problem| OperatorError::Perimeter {
+            source_name,
+            problem,
+        })
     }
 
     /// Parses and checks perimeter TOML.
     ///
     /// # Errors
-    /// A message naming the field that is missing, malformed or out of range.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    /// [`OperatorError::Perimeter`] naming the field that is missing, malformed or out of range.
+    pub fn parse(text: &str) -> Result<Self, OperatorError> {
+        Self::parse_problem(text).map_err(|problem| OperatorError::Perimeter {
+            source_name: "perimeter TOML".to_owned(),
+            problem,
+        })
+    }
+
+    /// [`Perimeter::parse`], the problem in words.
+    fn parse_problem(text: &str) -> Result<Self, String> {
         let de = toml::Deserializer::parse(text).map_err(|e| e.to_string())?;
         let p: Perimeter =
             serde_path_to_error::deserialize(de).map_err(|e| format!("{}: {}", e.path(), e))?;
@@ -362,14 +376,20 @@ mod tests {
         let e = Perimeter::parse(
             "restricted_classes = []\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0]]\n",
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("zone[0].polygon"), "{e}");
         let e = Perimeter::parse("restricted_classes = []\nhysteresis_m = -1.0\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]\n")
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("hysteresis_m"), "{e}");
-        let e = Perimeter::parse("restricted_classes = \"car\"\n").unwrap_err();
+        let e = Perimeter::parse("restricted_classes = \"car\"\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("restricted_classes"), "{e}");
-        let e = Perimeter::load(Path::new("/nonexistent/perimeter.toml")).unwrap_err();
+        let e = Perimeter::load(Path::new("/nonexistent/perimeter.toml"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("/nonexistent/perimeter.toml"), "{e}");
     }
 }

@@ -1,6 +1,7 @@
 //! `metamoran inspect`'s products: the plots of [`metamoran_process::inspect`]'s views (drawn by
 //! [`crate::plot`]) and the report of what was found and written.
 
+use crate::OperatorError;
 use crate::plot;
 use metamoran_bundle::{Bundle, OpenOptions};
 use metamoran_process::inspect::{ObjectView, inspect_frame};
@@ -13,12 +14,12 @@ const SHOWN_REFLECTORS: usize = 5;
 /// `frame<F>_obj<I>_score.png`; returns the file names.
 ///
 /// # Errors
-/// A message naming the file that could not be written, or the missing font.
+/// [`OperatorError`] naming the file that could not be written, or the missing font.
 pub fn write_plots(
     out: &std::path::Path,
     frame: u32,
     views: &[ObjectView],
-) -> Result<Vec<String>, String> {
+) -> Result<Vec<String>, OperatorError> {
     let mut files = Vec::new();
     for v in views {
         let map = format!("frame{frame}_obj{}_range_azimuth.png", v.instance);
@@ -85,16 +86,17 @@ impl std::fmt::Display for InspectReport {
 /// Opens the bundle in `dir`, inspects frame `frame` and writes its plots into `out` (created).
 ///
 /// # Errors
-/// A message naming the bad file or field, the frame out of range, or what could not be written.
+/// [`OperatorError`] naming the bad file or field, the frame out of range, or what could not be written.
 pub fn run(
     dir: &std::path::Path,
     frame: u32,
     out: &std::path::Path,
     options: OpenOptions,
-) -> Result<InspectReport, String> {
-    let mut bundle = Bundle::open(dir, options).map_err(|e| e.to_string())?;
+) -> Result<InspectReport, OperatorError> {
+    let mut bundle = Bundle::open(dir, options)?;
     let objects = inspect_frame(&mut bundle, frame)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| OperatorError::output(out, "create the output folder", e))?;
     let files = write_plots(out, frame, &objects)?;
     Ok(InspectReport {
         bundle: dir.display().to_string(),

@@ -7,6 +7,7 @@
 //! It sits above `metamoran-process` (it consumes its results) and below the `metamoran` binary.
 
 pub mod depth_image;
+mod error;
 pub mod geofence;
 pub mod inspect;
 pub mod live;
@@ -14,3 +15,5 @@ pub mod mqtt;
 pub mod outputs;
 pub mod plot;
 pub mod record;
+
+pub use error::OperatorError;

@@ -5,6 +5,7 @@
 //! [`draw`] is a pure function of [`OperatorState`], so tests render it into ratatui's
 //! `TestBackend`; [`LiveView`] puts it on the terminal (alternate screen) while a run lasts.
 
+use crate::OperatorError;
 use crate::geofence::Alert;
 use ratatui::layout::{Constraint, Layout};
 use ratatui::style::{Color, Modifier, Style};
@@ -224,22 +225,22 @@ impl LiveView {
     /// Takes over the terminal.
     ///
     /// # Errors
-    /// A message if the terminal cannot be set up (run without the live view: `--no-live`).
-    pub fn start() -> Result<Self, String> {
+    /// [`OperatorError`] if the terminal cannot be set up (run without the live view: `--no-live`).
+    pub fn start() -> Result<Self, OperatorError> {
         ratatui::try_init()
             .map(|terminal| Self { terminal })
-            .map_err(|e| format!("cannot start the live view ({e}); run with --no-live"))
+            .map_err(OperatorError::LiveStart)
     }
 
     /// Redraws the view.
     ///
     /// # Errors
-    /// A message if the terminal cannot be written.
-    pub fn show(&mut self, s: &OperatorState) -> Result<(), String> {
+    /// [`OperatorError`] if the terminal cannot be written.
+    pub fn show(&mut self, s: &OperatorState) -> Result<(), OperatorError> {
         self.terminal
             .draw(|f| draw(f, s))
             .map(|_| ())
-            .map_err(|e| format!("the live view cannot draw ({e})"))
+            .map_err(OperatorError::LiveDraw)
     }
 }
 

@@ -4,6 +4,7 @@
 //! (`metamoran/<sensor>/status`): `online` while connected, `stopped` after a clean end, and
 //! the broker's last will `offline` when the connection is lost without one.
 
+use crate::OperatorError;
 use crate::geofence::Alert;
 use metamoran_process::FrameResult;
 use rumqttc::{Client, Connection, Event, LastWill, MqttOptions, Packet, QoS};
@@ -28,21 +29,23 @@ impl MqttConfig {
     /// Parses `HOST:PORT` (port 1883 if omitted) for sensor `sensor`.
     ///
     /// # Errors
-    /// A message saying what form is expected.
-    pub fn parse(broker: &str, sensor: &str) -> Result<Self, String> {
+    /// [`OperatorError`] saying what form is expected.
+    pub fn parse(broker: &str, sensor: &str) -> Result<Self, OperatorError> {
         let (host, port) = match broker.rsplit_once(':') {
             Some((h, p)) => (
                 h,
-                p.parse().map_err(|_| {
-                    format!("--mqtt {broker}: the port must be a number (HOST:PORT)")
+                p.parse().map_err(|_| OperatorError::MqttAddress {
+                    broker: broker.to_owned(),
+                    problem: "the port must be a number (HOST:PORT)".to_owned(),
                 })?,
             ),
             None => (broker, 1883),
         };
         if host.is_empty() || sensor.is_empty() || sensor.contains(['/', '+', '#']) {
-            return Err(format!(
-                "--mqtt {broker} / sensor {sensor:?}: give HOST:PORT and a sensor id without / + #"
-            ));
+            return Err(OperatorError::MqttAddress {
+                broker: broker.to_owned(),
+                problem: format!("sensor {sensor:?}: give HOST:PORT and a sensor id without / + #"),
+            });
         }
         Ok(Self {
             host: host.to_owned(),
@@ -76,8 +79,8 @@ impl Publisher {
     /// returns once the broker has acknowledged it.
     ///
     /// # Errors
-    /// A message naming the broker when it does not accept the connection in 5 s.
-    pub fn connect(config: &MqttConfig) -> Result<Self, String> {
+    /// [`OperatorError`] naming the broker when it does not accept the connection in 5 s.
+    pub fn connect(config: &MqttConfig) -> Result<Self, OperatorError> {
         let mut options = MqttOptions::new(
             format!("metamoran-{}", config.sensor),
             &config.host,
@@ -103,11 +106,12 @@ impl Publisher {
         let broker = format!("{}:{}", config.host, config.port);
         match connected.recv_timeout(CONNECT_TIMEOUT) {
             Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(format!("MQTT broker {broker}: {e}")),
+            Ok(Err(problem)) => return Err(OperatorError::Broker { broker, problem }),
             Err(_) => {
-                return Err(format!(
-                    "MQTT broker {broker}: no answer in 5 s; is it running?"
-                ));
+                return Err(OperatorError::Broker {
+                    broker,
+                    problem: "no answer in 5 s; is it running?".to_owned(),
+                });
             }
         }
         let p = Self {
@@ -126,38 +130,48 @@ impl Publisher {
     /// Waits until the broker has acknowledged every QoS 1 message published so far.
     ///
     /// # Errors
-    /// A message naming the broker if that takes more than 5 s.
-    pub fn flush(&self) -> Result<(), String> {
+    /// [`OperatorError`] naming the broker if that takes more than 5 s.
+    pub fn flush(&self) -> Result<(), OperatorError> {
         let deadline = std::time::Instant::now() + CONNECT_TIMEOUT;
         while self.acked.load(Ordering::Relaxed) < self.sent.load(Ordering::Relaxed) {
             if std::time::Instant::now() > deadline {
-                return Err(format!(
-                    "MQTT broker {}:{}: {} of {} alerts/status messages unacknowledged after 5 s",
-                    self.config.host,
-                    self.config.port,
-                    self.sent.load(Ordering::Relaxed) - self.acked.load(Ordering::Relaxed),
-                    self.sent.load(Ordering::Relaxed)
-                ));
+                return Err(OperatorError::Broker {
+                    broker: format!("{}:{}", self.config.host, self.config.port),
+                    problem: format!(
+                        "{} of {} alerts/status messages unacknowledged after 5 s",
+                        self.sent.load(Ordering::Relaxed) - self.acked.load(Ordering::Relaxed),
+                        self.sent.load(Ordering::Relaxed)
+                    ),
+                });
             }
             std::thread::sleep(Duration::from_millis(5));
         }
         Ok(())
     }
 
-    fn send(&self, leaf: &str, qos: QoS, retain: bool, payload: Vec<u8>) -> Result<(), String> {
+    fn send(
+        &self,
+        leaf: &str,
+        qos: QoS,
+        retain: bool,
+        payload: Vec<u8>,
+    ) -> Result<(), OperatorError> {
         if qos == QoS::AtLeastOnce {
             self.sent.fetch_add(1, Ordering::Relaxed);
         }
         self.client
             .publish(self.config.topic(leaf), qos, retain, payload)
-            .map_err(|e| format!("MQTT {}: {e}", self.config.topic(leaf)))
+            .map_err(|e| OperatorError::Publish {
+                topic: self.config.topic(leaf),
+                reason: e.to_string(),
+            })
     }
 
     /// Publishes a frame's objects (QoS 0).
     ///
     /// # Errors
-    /// A message if the publisher is closed.
-    pub fn frame(&self, frame: &FrameResult) -> Result<(), String> {
+    /// [`OperatorError`] if the publisher is closed.
+    pub fn frame(&self, frame: &FrameResult) -> Result<(), OperatorError> {
         let objects: Vec<_> = frame
             .objects
             .iter()
@@ -181,9 +195,12 @@ impl Publisher {
     /// Publishes an alert (QoS 1).
     ///
     /// # Errors
-    /// A message if the publisher is closed.
-    pub fn alert(&self, alert: &Alert) -> Result<(), String> {
-        let body = serde_json::to_vec(alert).map_err(|e| e.to_string())?;
+    /// [`OperatorError`] if the publisher is closed.
+    pub fn alert(&self, alert: &Alert) -> Result<(), OperatorError> {
+        let body = serde_json::to_vec(alert).map_err(|e| OperatorError::Publish {
+            topic: self.config.topic("alerts"),
+            reason: e.to_string(),
+        })?;
         self.send("alerts", QoS::AtLeastOnce, false, body)
     }
 
@@ -191,13 +208,16 @@ impl Publisher {
     /// acknowledged every QoS 1 message (alerts, status).
     ///
     /// # Errors
-    /// A message if the broker does not acknowledge them within 5 s.
-    pub fn close(mut self) -> Result<(), String> {
+    /// [`OperatorError`] if the broker does not acknowledge them within 5 s.
+    pub fn close(mut self) -> Result<(), OperatorError> {
         self.send("status", QoS::AtLeastOnce, true, b"stopped".to_vec())?;
         self.flush()?;
         self.client
             .disconnect()
-            .map_err(|e| format!("MQTT disconnect: {e}"))?;
+            .map_err(|e| OperatorError::Publish {
+                topic: self.config.topic("status"),
+                reason: format!("disconnect: {e}"),
+            })?;
         if let Some(p) = self.pump.take() {
             let _ = p.join();
         }

@@ -2,6 +2,7 @@
 //! fused depth image (KITTI PNG) and point cloud (PLY), `recording.mcap`, and the inspection
 //! plots.
 
+use crate::OperatorError;
 use crate::depth_image::{kitti_depth, write_ply, write_png16};
 use crate::geofence::Alert;
 use metamoran_bundle::geometry::CameraModel;
@@ -13,24 +14,25 @@ use std::path::Path;
 /// Writes `bytes` to `path`, naming it on failure.
 ///
 /// # Errors
-/// A message naming the file.
-pub fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    std::fs::write(path, bytes).map_err(|e| format!("{}: cannot write ({e})", path.display()))
+/// [`OperatorError::Output`] naming the file.
+pub fn write(path: &Path, bytes: &[u8]) -> Result<(), OperatorError> {
+    std::fs::write(path, bytes).map_err(|e| OperatorError::output(path, "write", e))
 }
 
 /// `results.json` (cli.md's shape), per frame `depth_F.png` (KITTI, through `camera`) and
 /// `points_F.ply`, and `recording.mcap` with the frames (every `period_s`) and `alerts`.
 ///
 /// # Errors
-/// A message naming the file that could not be written.
+/// [`OperatorError`] naming the file that could not be written.
 pub fn write_outputs(
     out: &Path,
     camera: &CameraModel,
     output: &ProcessOutput,
     period_s: f64,
     alerts: &[Alert],
-) -> Result<Vec<String>, String> {
-    let json = serde_json::to_vec(output).map_err(|e| e.to_string())?;
+) -> Result<Vec<String>, OperatorError> {
+    let json = serde_json::to_vec(output)
+        .map_err(|e| OperatorError::output(&out.join("results.json"), "write", e))?;
     write(&out.join("results.json"), &json)?;
     let mut files = vec!["results.json".to_owned()];
     for f in &output.frames {
@@ -56,15 +58,16 @@ pub fn write_outputs(
 /// plots of every object of every frame ([`crate::inspect`]). Returns the file names.
 ///
 /// # Errors
-/// A message naming the folder or file that could not be written, or the bad bundle field.
+/// [`OperatorError`] naming the folder or file that could not be written, or the bad bundle field.
 pub fn write_products(
     dir: &Path,
     bundle_dir: &Path,
     options: OpenOptions,
     out: &ProcessOutput,
-) -> Result<Vec<String>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
-    let mut bundle = Bundle::open(bundle_dir, options).map_err(|e| e.to_string())?;
+) -> Result<Vec<String>, OperatorError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| OperatorError::output(dir, "create the --out folder", e))?;
+    let mut bundle = Bundle::open(bundle_dir, options)?;
     let camera = CameraModel::new(&bundle.scene.camera);
     let period = bundle.scene.radar.frame_period_s;
     let mut files = write_outputs(dir, &camera, out, period, &[])?;

@@ -4,6 +4,7 @@
 //! Labels need a TrueType font; plotters' `ab_glyph` backend takes one from memory, so the first
 //! plot reads DejaVu Sans from the usual system places (or `METAMORAN_FONT`) and registers it.
 
+use crate::OperatorError;
 use metamoran_process::inspect::{AZIMUTH_STEP_DEG, MAX_AZIMUTH_DEG, Map, ObjectView};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -22,7 +23,7 @@ const FONT_PATHS: [&str; 4] = [
 ];
 
 /// Registers the label font once.
-fn font() -> Result<(), String> {
+fn font() -> Result<(), OperatorError> {
     static FONT: OnceLock<Result<(), String>> = OnceLock::new();
     FONT.get_or_init(|| {
         let wanted = std::env::var("METAMORAN_FONT").ok();
@@ -45,10 +46,11 @@ fn font() -> Result<(), String> {
         .map_err(|_| format!("{path}: not a TrueType/OpenType font (METAMORAN_FONT)"))
     })
     .clone()
+    .map_err(OperatorError::Font)
 }
 
-fn err(path: &Path) -> impl Fn(String) -> String + '_ {
-    move |e| format!("{}: cannot draw the plot: {e}", path.display())
+fn err(path: &Path) -> impl Fn(String) -> OperatorError + '_ {
+    move |e| OperatorError::output(path, "draw the plot", e)
 }
 
 /// The maps before and after SIC side by side (1400 × 700): colour is power within
@@ -56,8 +58,8 @@ fn err(path: &Path) -> impl Fn(String) -> String + '_ {
 /// the magenta bar is the chosen depth across the span, red crosses the cancelled reflectors.
 ///
 /// # Errors
-/// A message naming the file, or the missing font.
-pub fn range_azimuth(path: &Path, frame: u32, view: &ObjectView) -> Result<(), String> {
+/// [`OperatorError`] naming the file, or the missing font.
+pub fn range_azimuth(path: &Path, frame: u32, view: &ObjectView) -> Result<(), OperatorError> {
     font()?;
     let root = BitMapBackend::new(path, (1400, 700)).into_drawing_area();
     let e = err(path);
@@ -161,8 +163,8 @@ where
 /// median floor marked.
 ///
 /// # Errors
-/// A message naming the file, or the missing font.
-pub fn score(path: &Path, frame: u32, view: &ObjectView) -> Result<(), String> {
+/// [`OperatorError`] naming the file, or the missing font.
+pub fn score(path: &Path, frame: u32, view: &ObjectView) -> Result<(), OperatorError> {
     font()?;
     let e = err(path);
     let root = BitMapBackend::new(path, (900, 450)).into_drawing_area();

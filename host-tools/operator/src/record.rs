@@ -3,6 +3,7 @@
 //! `PointCloud` schema, so it renders in a 3D panel), and the perimeter alerts
 //! (`/metamoran/alerts`). Every message is JSON with a JSON Schema; log time is the frame time.
 
+use crate::OperatorError;
 use crate::geofence::Alert;
 use base64::Engine;
 use metamoran_process::FrameResult;
@@ -39,12 +40,12 @@ impl Recorder {
     /// Creates (or replaces) the recording at `path`.
     ///
     /// # Errors
-    /// A message naming the file.
-    pub fn create(path: &Path) -> Result<Self, String> {
-        let e = |x: &dyn std::fmt::Display| format!("{}: cannot record ({x})", path.display());
+    /// [`OperatorError::Output`] naming the file.
+    pub fn create(path: &Path) -> Result<Self, OperatorError> {
+        let e = |x: &dyn std::fmt::Display| OperatorError::output(path, "record", x);
         let file = std::fs::File::create(path).map_err(|x| e(&x))?;
         let mut writer = mcap::Writer::new(BufWriter::new(file)).map_err(|x| e(&x))?;
-        let mut channel = |schema: &str, body: &str, topic: &str| -> Result<u16, String> {
+        let mut channel = |schema: &str, body: &str, topic: &str| -> Result<u16, OperatorError> {
             let id = writer
                 .add_schema(schema, "jsonschema", body.as_bytes())
                 .map_err(|x| e(&x))?;
@@ -70,7 +71,7 @@ impl Recorder {
         channel: u16,
         time_s: f64,
         value: &serde_json::Value,
-    ) -> Result<(), String> {
+    ) -> Result<(), OperatorError> {
         let nanos = (time_s.max(0.0) * 1e9).round() as u64;
         self.sequence += 1;
         let header = mcap::records::MessageHeader {
@@ -79,17 +80,18 @@ impl Recorder {
             log_time: nanos,
             publish_time: nanos,
         };
-        let data = serde_json::to_vec(value).map_err(|x| x.to_string())?;
+        let data = serde_json::to_vec(value)
+            .map_err(|x| OperatorError::output(&self.path, "record", x))?;
         self.writer
             .write_to_known_channel(&header, &data)
-            .map_err(|x| format!("{}: cannot record ({x})", self.path.display()))
+            .map_err(|x| OperatorError::output(&self.path, "record", x))
     }
 
     /// Records one frame's objects and its point cloud at `time_s` (s from the start).
     ///
     /// # Errors
-    /// A message naming the file.
-    pub fn frame(&mut self, time_s: f64, frame: &FrameResult) -> Result<(), String> {
+    /// [`OperatorError::Output`] naming the file.
+    pub fn frame(&mut self, time_s: f64, frame: &FrameResult) -> Result<(), OperatorError> {
         let objects: Vec<_> = frame
             .objects
             .iter()
@@ -132,34 +134,35 @@ impl Recorder {
     /// Records an alert at its own time.
     ///
     /// # Errors
-    /// A message naming the file.
-    pub fn alert(&mut self, alert: &Alert) -> Result<(), String> {
-        let value = serde_json::to_value(alert).map_err(|x| x.to_string())?;
+    /// [`OperatorError::Output`] naming the file.
+    pub fn alert(&mut self, alert: &Alert) -> Result<(), OperatorError> {
+        let value = serde_json::to_value(alert)
+            .map_err(|x| OperatorError::output(&self.path, "record", x))?;
         self.write(self.alerts, alert.time_s, &value)
     }
 
     /// Writes the summary and index and closes the file.
     ///
     /// # Errors
-    /// A message naming the file.
-    pub fn finish(mut self) -> Result<(), String> {
+    /// [`OperatorError::Output`] naming the file.
+    pub fn finish(mut self) -> Result<(), OperatorError> {
         self.writer
             .finish()
             .map(|_| ())
-            .map_err(|x| format!("{}: cannot finish the recording ({x})", self.path.display()))
+            .map_err(|x| OperatorError::output(&self.path, "finish the recording", x))
     }
 }
 
 /// Records `frames` (frame `f` at `f · period_s`) and `alerts` into `path`.
 ///
 /// # Errors
-/// A message naming the file.
+/// [`OperatorError::Output`] naming the file.
 pub fn record(
     path: &Path,
     frames: &[FrameResult],
     period_s: f64,
     alerts: &[Alert],
-) -> Result<(), String> {
+) -> Result<(), OperatorError> {
     let mut r = Recorder::create(path)?;
     for f in frames {
         r.frame(f.frame as f64 * period_s, f)?;

@@ -1,6 +1,7 @@
 //! Per-frame radar processing on the host with the module's `dsp` code: range cube, range
 //! profile, range–Doppler map, and the azimuth of any cell.
 
+use crate::ProcessError;
 use dsp::array::VirtualArray;
 use dsp::azimuth::azimuth_spectrum;
 use dsp::config::{RadarConfig, azimuth_bin_to_angle};
@@ -54,10 +55,10 @@ impl FrameProcessor {
     /// Buffers for `config`.
     ///
     /// # Errors
-    /// A message if the configuration cannot be processed.
-    pub fn new(config: &RadarConfig, options: FrameOptions) -> Result<Self, String> {
-        config.validate().map_err(|e| e.to_string())?;
-        let array = VirtualArray::new(config).map_err(|e| e.to_string())?;
+    /// [`ProcessError`] if the configuration cannot be processed.
+    pub fn new(config: &RadarConfig, options: FrameOptions) -> Result<Self, ProcessError> {
+        config.validate()?;
+        let array = VirtualArray::new(config)?;
         let make = |kind, len| {
             let mut w = vec![Q15::ZERO; len];
             window::fill(kind, &mut w);
@@ -76,8 +77,7 @@ impl FrameProcessor {
             config.rx_count(),
             loops,
             nr,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         Ok(Self {
             config: config.clone(),
             options,
@@ -116,8 +116,8 @@ impl FrameProcessor {
     /// Range-processes one frame (`[chirp][rx][sample]`) into the cube and returns its spectra.
     ///
     /// # Errors
-    /// A message if the frame has the wrong size.
-    pub fn process(&mut self, frame: &[CQ15]) -> Result<FrameSpectra, String> {
+    /// [`ProcessError`] if the frame has the wrong size.
+    pub fn process(&mut self, frame: &[CQ15]) -> Result<FrameSpectra, ProcessError> {
         let c = &self.config;
         let (n, rx, nr, nd) = (
             c.adc_samples as usize,
@@ -126,19 +126,16 @@ impl FrameProcessor {
             c.doppler_fft_len(),
         );
         if frame.len() != c.samples_per_frame() {
-            return Err(format!(
-                "frame has {} samples; the config needs {}",
-                frame.len(),
-                c.samples_per_frame()
-            ));
+            return Err(ProcessError::FrameLength {
+                got: frame.len(),
+                expected: c.samples_per_frame(),
+            });
         }
         let window = Self::window_of(self.options.range_window, &self.range_window);
-        let processor = RangeProcessor::new(n, nr, window).map_err(|e| e.to_string())?;
+        let processor = RangeProcessor::new(n, nr, window)?;
         for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
             for (r, samples) in rows.chunks_exact(n).enumerate() {
-                self.cube
-                    .push_chirp(&processor, chirp, r, samples)
-                    .map_err(|e| e.to_string())?;
+                self.cube.push_chirp(&processor, chirp, r, samples)?;
             }
         }
         let mut range_profile = vec![0f32; nr];
@@ -159,7 +156,7 @@ impl FrameProcessor {
             &mut range_doppler,
         );
         self.scratch = scratch;
-        result.map_err(|e| e.to_string())?;
+        result?;
         Ok(FrameSpectra {
             range_profile,
             range_doppler,
@@ -172,12 +169,12 @@ impl FrameProcessor {
     /// bin `bin` of the last frame, each computed once.
     ///
     /// # Errors
-    /// A message if the bin is out of range.
+    /// [`ProcessError`] if the bin is out of range.
     pub fn doppler_spectra(
         &mut self,
         bin: usize,
         remove_static: bool,
-    ) -> Result<Vec<(Exponent, Vec<CQ15>)>, String> {
+    ) -> Result<Vec<(Exponent, Vec<CQ15>)>, ProcessError> {
         let mut scratch = std::mem::take(&mut self.scratch);
         let mut out = Vec::with_capacity(self.array.channels());
         let mut result = Ok(());
@@ -191,7 +188,7 @@ impl FrameProcessor {
             ) {
                 Ok(e) => out.push((e, scratch.clone())),
                 Err(e) => {
-                    result = Err(e.to_string());
+                    result = Err(e.into());
                     break;
                 }
             }
@@ -204,13 +201,13 @@ impl FrameProcessor {
     /// one exponent (index 0 without static removal is the sum over loops: the static scene).
     ///
     /// # Errors
-    /// A message if an index is out of range.
+    /// [`ProcessError`] if an index is out of range.
     pub fn channel_values(
         &mut self,
         bin: usize,
         doppler: usize,
         remove_static: bool,
-    ) -> Result<(Vec<CQ15>, Exponent), String> {
+    ) -> Result<(Vec<CQ15>, Exponent), ProcessError> {
         let spectra = self.doppler_spectra(bin, remove_static)?;
         let top = spectra.iter().map(|(e, _)| e.0).max().unwrap_or(0);
         let values = spectra
@@ -218,7 +215,7 @@ impl FrameProcessor {
             .map(|(e, s)| {
                 s.get(doppler)
                     .map(|z| z.scale_down(top - e.0))
-                    .ok_or_else(|| format!("Doppler index {doppler} out of range"))
+                    .ok_or(ProcessError::DopplerIndex(doppler))
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok((values, Exponent(top)))
@@ -228,13 +225,13 @@ impl FrameProcessor {
     /// returned for it): [`dsp::points::frame_points`] over this processor's range cube.
     ///
     /// # Errors
-    /// A message if the buffers do not fit the configuration.
+    /// [`ProcessError`] if the buffers do not fit the configuration.
     pub fn points(
         &mut self,
         spectra: &FrameSpectra,
         geometry: &dsp::points::ArrayGeometry,
         options: &dsp::points::CloudOptions,
-    ) -> Result<Vec<dsp::points::RadarPoint>, String> {
+    ) -> Result<Vec<dsp::points::RadarPoint>, ProcessError> {
         let mut scratch = std::mem::take(&mut self.scratch);
         let mut values =
             vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * spectra.doppler_len];
@@ -251,7 +248,7 @@ impl FrameProcessor {
             |p| out.push(p),
         );
         self.scratch = scratch;
-        result.map_err(|e| e.to_string())?;
+        result?;
         Ok(out)
     }
 
@@ -264,16 +261,16 @@ impl FrameProcessor {
     /// at Doppler index `doppler` of the last frame, in full-scale units.
     ///
     /// # Errors
-    /// A message if an index is out of range.
+    /// [`ProcessError`] if an index is out of range.
     pub fn azimuth_profile(
         &mut self,
         bin: usize,
         doppler: usize,
         remove_static: bool,
-    ) -> Result<Vec<f32>, String> {
+    ) -> Result<Vec<f32>, ProcessError> {
         let (values, exp) = self.channel_values(bin, doppler, remove_static)?;
         let mut spec = vec![CQ15::default(); self.azimuth_len()];
-        let e = azimuth_spectrum(&self.array, &values, &mut spec).map_err(|e| e.to_string())?;
+        let e = azimuth_spectrum(&self.array, &values, &mut spec)?;
         let scale = Exponent(exp.0 + e.0);
         Ok(spec.iter().map(|&z| magnitude(z, scale)).collect())
     }
@@ -284,13 +281,13 @@ impl FrameProcessor {
     /// outside the visible region.
     ///
     /// # Errors
-    /// A message if an index is out of range.
+    /// [`ProcessError`] if an index is out of range.
     pub fn azimuth_at(
         &mut self,
         bin: usize,
         doppler: usize,
         remove_static: bool,
-    ) -> Result<Option<Radians>, String> {
+    ) -> Result<Option<Radians>, ProcessError> {
         let mag = self.azimuth_profile(bin, doppler, remove_static)?;
         let na = mag.len();
         let k = (0..na)

@@ -4,6 +4,7 @@
 //! cancelled, the chosen depth, and the correlation score `P(d)` of the coarse search (drawn by
 //! `metamoran_operator::plot`).
 
+use crate::ProcessError;
 use crate::camera_points::objects_of_interest;
 use crate::metamoran::{StaticScene, prepare};
 use metamoran_bundle::Bundle;
@@ -80,21 +81,18 @@ pub struct ObjectView {
 /// Inspects every object of interest in frame `frame` of `bundle`. O(objects · grid · bins · E).
 ///
 /// # Errors
-/// A message naming the file and field of a bad bundle or frame.
-pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>, String> {
+/// [`ProcessError`] naming the file and field of a bad bundle or frame.
+pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>, ProcessError> {
     if frame >= bundle.frames() {
-        return Err(format!(
-            "frame {frame}: the bundle has {} frames (use --frame 0..{})",
-            bundle.frames(),
-            bundle.frames().saturating_sub(1)
-        ));
+        return Err(ProcessError::NoFrame {
+            frame,
+            frames: bundle.frames(),
+        });
     }
     let camera = CameraModel::new(&bundle.scene.camera);
-    let cam = bundle.camera_frame(frame).map_err(|e| e.to_string())?;
+    let cam = bundle.camera_frame(frame)?;
     let mut samples = Vec::new();
-    bundle
-        .read_radar_frame(frame, &mut samples)
-        .map_err(|e| e.to_string())?;
+    bundle.read_radar_frame(frame, &mut samples)?;
     let mut scene = StaticScene::new(&bundle.scene.radar, &samples)?;
     let bin_m = scene.edge().geometry().bin_m as f64;
     let bins = scene.edge().max_bin();

@@ -9,6 +9,7 @@
 //! [`summary`] describes a bare capture.
 
 pub mod camera_points;
+mod error;
 pub mod eval;
 pub mod frame;
 pub mod inspect;
@@ -16,6 +17,8 @@ pub mod metamoran;
 pub mod monocular;
 pub mod naive;
 pub mod summary;
+
+pub use error::ProcessError;
 
 use crate::frame::{FrameOptions, FrameProcessor};
 use camera_points::{CameraObject, objects_of_interest};
@@ -159,8 +162,8 @@ impl ProcessOptions {
 /// Processes every frame of the bundle in `dir`.
 ///
 /// # Errors
-/// A message naming the file and field of a bad bundle, or why the mode or module cannot run.
-pub fn process(dir: &Path, options: &ProcessOptions) -> Result<ProcessOutput, String> {
+/// [`ProcessError`] naming the file and field of a bad bundle, or why the mode or module cannot run.
+pub fn process(dir: &Path, options: &ProcessOptions) -> Result<ProcessOutput, ProcessError> {
     process_streamed(dir, options, |_| Ok(())).map(|(out, _)| out)
 }
 
@@ -186,15 +189,15 @@ pub struct FrameEvent<'a> {
 pub fn process_streamed(
     dir: &Path,
     options: &ProcessOptions,
-    mut on_frame: impl FnMut(FrameEvent<'_>) -> Result<(), String>,
-) -> Result<(ProcessOutput, Option<EdgeLog>), String> {
+    mut on_frame: impl FnMut(FrameEvent<'_>) -> Result<(), Box<dyn std::error::Error + Send + Sync>>,
+) -> Result<(ProcessOutput, Option<EdgeLog>), ProcessError> {
     let mode = options.mode;
     let iq_order = options.open.iq_order;
-    let mut bundle = Bundle::open(dir, options.open.clone()).map_err(|e| e.to_string())?;
+    let mut bundle = Bundle::open(dir, options.open.clone())?;
     let mut module = match (mode, &options.runner) {
         (Mode::Metamoran, Runner::Qemu { firmware, key }) => {
             if iq_order != dsp::capture::IqOrder::Iiqq {
-                return Err("--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process".into());
+                return Err(ProcessError::IqOrder);
             }
             let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
             q.configure(&bundle.scene.radar)?;
@@ -212,15 +215,13 @@ pub fn process_streamed(
     let mut samples = Vec::new();
     let mut frames = Vec::new();
     for f in 0..bundle.frames() {
-        let cam = bundle.camera_frame(f).map_err(|e| e.to_string())?;
+        let cam = bundle.camera_frame(f)?;
         let objects = objects_of_interest(&camera, &cam);
         let started = std::time::Instant::now();
         let results = match mode {
             Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
             Mode::Metamoran => {
-                bundle
-                    .read_radar_frame(f, &mut samples)
-                    .map_err(|e| e.to_string())?;
+                bundle.read_radar_frame(f, &mut samples)?;
                 let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
                 if let Some(q) = module.as_mut() {
                     let hints: Vec<_> =
@@ -250,9 +251,7 @@ pub fn process_streamed(
                 }
             }
             Mode::Naive => {
-                bundle
-                    .read_radar_frame(f, &mut samples)
-                    .map_err(|e| e.to_string())?;
+                bundle.read_radar_frame(f, &mut samples)?;
                 let spectra = proc.process(&samples)?;
                 let ra = naive::RangeAzimuth::new(&mut proc, spectra.range_bins)?;
                 objects
@@ -270,7 +269,8 @@ pub fn process_streamed(
             of: bundle.frames(),
             latency: started.elapsed(),
             link: module.as_ref().map(QemuEdge::link_stats),
-        })?;
+        })
+        .map_err(ProcessError::Consumer)?;
         frames.push(result);
     }
     let log = match module {

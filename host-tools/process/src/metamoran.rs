@@ -4,6 +4,7 @@
 
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
+use crate::ProcessError;
 use dsp::clutter::peaks::{MAX_PEAKS, Peak};
 use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
 use dsp::config::RadarConfig;
@@ -39,9 +40,9 @@ impl StaticScene {
     /// Streams `frame` (`[chirp][rx][sample]`) through the module's frame stage.
     ///
     /// # Errors
-    /// A message if the frame does not match the configuration.
-    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Self, String> {
-        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+    /// [`ProcessError`] if the frame does not match the configuration.
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Self, ProcessError> {
+        let edge = Edge::new(config)?;
         let (n, m, rx) = (
             config.adc_samples as usize,
             edge.fft_len(),
@@ -50,32 +51,29 @@ impl StaticScene {
         let elements = edge.array().elements();
         let mut arena = vec![0u32; edge.arena_words()];
         let mut samples = vec![C32::new(0.0, 0.0); elements * n];
-        let mut sum = StaticSum::new(&mut samples, n).map_err(|e| e.to_string())?;
+        let mut sum = StaticSum::new(&mut samples, n)?;
         let (exponent, peaks) = {
-            let mut frame_sum = edge.start(&mut arena).map_err(|e| e.to_string())?;
+            let mut frame_sum = edge.start(&mut arena)?;
             for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
                 for (r, s) in rows.chunks_exact(n).enumerate() {
-                    edge.push(&mut frame_sum, chirp, r, s)
-                        .map_err(|e| e.to_string())?;
+                    edge.push(&mut frame_sum, chirp, r, s)?;
                     let element = edge
                         .array()
                         .element_of((chirp % config.slots()) * rx + r)
-                        .ok_or("channel outside the array")?;
-                    sum.push(element, s).map_err(|e| e.to_string())?;
+                        .ok_or(ProcessError::Channel)?;
+                    sum.push(element, s)?;
                 }
             }
             let mut row = vec![CQ15::default(); m];
             let mut az = vec![CQ15::default(); edge.azimuth_len()];
             let mut powers = vec![0u64; 3 * edge.azimuth_len()];
-            let scene = edge
-                .finish(frame_sum, &mut row, &mut az, &mut powers)
-                .map_err(|e| e.to_string())?;
+            let scene = edge.finish(frame_sum, &mut row, &mut az, &mut powers)?;
             (scene.spectra.exponent(), scene.peaks)
         };
         let window: Vec<f32> = (0..n)
             .map(|i| coefficient_f64(Edge::WINDOW, i, n) as f32)
             .collect();
-        sum.finish(&window).map_err(|e| e.to_string())?;
+        sum.finish(&window)?;
         Ok(Self {
             edge,
             arena,
@@ -90,7 +88,7 @@ impl StaticScene {
     fn cancel(
         &mut self,
         hint: &ObjectHint,
-    ) -> Result<heapless::Vec<Reflector, MAX_REFLECTORS>, String> {
+    ) -> Result<heapless::Vec<Reflector, MAX_REFLECTORS>, ProcessError> {
         let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
         Ok(self.edge.cancel(&view, hint))
     }
@@ -100,7 +98,7 @@ impl StaticScene {
         &mut self,
         hint: &ObjectHint,
         reflectors: &[Reflector],
-    ) -> Result<ObjectReport, String> {
+    ) -> Result<ObjectReport, ProcessError> {
         self.search_scored(hint, reflectors).map(|(r, _)| r)
     }
 
@@ -110,13 +108,10 @@ impl StaticScene {
         &mut self,
         hint: &ObjectHint,
         reflectors: &[Reflector],
-    ) -> Result<(ObjectReport, Vec<f32>), String> {
+    ) -> Result<(ObjectReport, Vec<f32>), ProcessError> {
         let mut scores = vec![0.0f32; self.edge.fft_len()];
         let mut view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
-        let report = self
-            .edge
-            .search(&mut view, hint, reflectors, &mut scores)
-            .map_err(|e| e.to_string())?;
+        let report = self.edge.search(&mut view, hint, reflectors, &mut scores)?;
         Ok((report, scores))
     }
 
@@ -125,13 +120,13 @@ impl StaticScene {
     /// module's (its fixed-point spectra, its SIC residual). O(grid · bins · E).
     ///
     /// # Errors
-    /// A message if the frame's spectra cannot be read back.
+    /// [`ProcessError`] if the frame's spectra cannot be read back.
     pub fn range_azimuth_db(
         &mut self,
         reflectors: &[Reflector],
         sin_grid: &[f32],
         bins: usize,
-    ) -> Result<Vec<f32>, String> {
+    ) -> Result<Vec<f32>, ProcessError> {
         let view = resume(&self.edge, &mut self.arena, self.exponent, &self.peaks)?;
         let geo = self.edge.geometry();
         let mut row = vec![C32::new(0.0, 0.0); bins];
@@ -156,8 +151,8 @@ fn resume<'a>(
     arena: &'a mut [u32],
     exponent: i32,
     peaks: &heapless::Vec<Peak, MAX_PEAKS>,
-) -> Result<FrameScene<'a>, String> {
-    FrameScene::resume(edge, arena, exponent, peaks.clone()).map_err(|e| e.to_string())
+) -> Result<FrameScene<'a>, ProcessError> {
+    Ok(FrameScene::resume(edge, arena, exponent, peaks.clone())?)
 }
 
 /// A frame's moving scene: static clutter removed (mean over loops), then one range spectrum per
@@ -247,8 +242,8 @@ impl MovingScene {
     /// Builds the Doppler spectra of the frame through the module's fixed-point cube.
     ///
     /// # Errors
-    /// A message if the frame does not match the configuration.
-    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Option<Self>, String> {
+    /// [`ProcessError`] if the frame does not match the configuration.
+    pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Option<Self>, ProcessError> {
         if config.chirps_per_tx < MIN_DOPPLER_LOOPS {
             return Ok(None);
         }
@@ -273,7 +268,7 @@ impl MovingScene {
                 }
             }
         }
-        let edge = Edge::new(config).map_err(|e| e.to_string())?;
+        let edge = Edge::new(config)?;
         let positions = (0..c)
             .map(|ch| edge.array().position(ch).unwrap_or(0) as f32)
             .collect();
@@ -452,8 +447,8 @@ pub fn prepare(scene: &mut StaticScene, obj: &CameraObject) -> Option<Prepared> 
 /// The production search on a prepared object (the module's code).
 ///
 /// # Errors
-/// A message if the search cannot run.
-pub fn fast_search(scene: &mut StaticScene, p: &Prepared) -> Result<ObjectReport, String> {
+/// [`ProcessError`] if the search cannot run.
+pub fn fast_search(scene: &mut StaticScene, p: &Prepared) -> Result<ObjectReport, ProcessError> {
     scene.search(&p.hint, &p.reflectors)
 }
 
@@ -461,11 +456,11 @@ pub fn fast_search(scene: &mut StaticScene, p: &Prepared) -> Result<ObjectReport
 /// `f32` sums with the same reflectors subtracted in the time domain).
 ///
 /// # Errors
-/// A message if a search cannot run.
+/// [`ProcessError`] if a search cannot run.
 pub fn both_searches(
     scene: &mut StaticScene,
     p: &Prepared,
-) -> Result<(SearchResult, SearchResult), String> {
+) -> Result<(SearchResult, SearchResult), ProcessError> {
     let fast = fast_search(scene, p)?.search;
     let geo = scene.edge.geometry();
     let mut samples = scene.samples.clone();
@@ -473,7 +468,7 @@ pub fn both_searches(
         r.subtract_from(&mut samples, &geo, &scene.window, scene.exponent);
     }
     let contour = scene.edge.contour(&p.hint);
-    let reference = brute_force(&samples, &geo, &contour, p.bins).map_err(|e| e.to_string())?;
+    let reference = brute_force(&samples, &geo, &contour, p.bins)?;
     Ok((fast, reference))
 }
 

@@ -3,6 +3,7 @@
 
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
+use crate::ProcessError;
 use crate::frame::FrameProcessor;
 use dsp::config::azimuth_bin_to_angle;
 use dsp::detect::quadratic_offset;
@@ -22,8 +23,8 @@ impl RangeAzimuth {
     /// Computes the map of the last frame processed by `proc` (Doppler index 0, no clutter removal).
     ///
     /// # Errors
-    /// A message if processing fails.
-    pub fn new(proc: &mut FrameProcessor, bins: usize) -> Result<Self, String> {
+    /// [`ProcessError`] if processing fails.
+    pub fn new(proc: &mut FrameProcessor, bins: usize) -> Result<Self, ProcessError> {
         let az_len = proc.azimuth_len();
         let mut map = Vec::with_capacity(bins * az_len);
         for b in 0..bins {

@@ -118,15 +118,14 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
         doppler_window: WindowKind::Hann,
         remove_static: true,
     };
-    let to_err = |e: String| InputError::file(file.path(), e);
+    let path = file.path().to_owned();
+    let to_err = |e: crate::ProcessError| InputError::file(&path, e.to_string());
     let mut proc = FrameProcessor::new(&config, options).map_err(to_err)?;
     let mut samples = Vec::new();
     let mut frames = Vec::new();
     for f in 0..config.frames {
         file.read_frame(f, &mut samples)?;
-        let spectra = proc
-            .process(&samples)
-            .map_err(|e| InputError::file(file.path(), e))?;
+        let spectra = proc.process(&samples).map_err(to_err)?;
         let (nr, nd) = (spectra.range_bins, spectra.doppler_len);
         let profile = &spectra.range_profile;
         let mut peaks: Vec<usize> = (0..nr).filter(|&k| is_local_max(profile, k)).collect();
@@ -138,9 +137,7 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             } else {
                 0.0
             };
-            let az = proc
-                .azimuth_at(k, 0, false)
-                .map_err(|e| InputError::file(file.path(), e))?;
+            let az = proc.azimuth_at(k, 0, false).map_err(to_err)?;
             range_peaks.push(RangePeak {
                 bin: k,
                 range_m: config.bin_to_range(RangeBin(k as f32 + off), nr).0,
@@ -189,9 +186,7 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             };
             let d_off = quadratic_offset(at(r, d + nd - 1), at(r, d), at(r, d + 1));
             let doppler_bin = signed_bin(d, nd);
-            let az = proc
-                .azimuth_at(r, d, true)
-                .map_err(|e| InputError::file(file.path(), e))?;
+            let az = proc.azimuth_at(r, d, true).map_err(to_err)?;
             moving_targets.push(MovingTarget {
                 range_bin: r,
                 doppler_bin,

@@ -15,6 +15,23 @@ pub mod shape;
 pub mod signal;
 pub mod writer;
 
+/// Why a scene could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// A file or folder of the bundle could not be written.
+    #[error("{}: cannot write ({source}); check the folder is writable and has room", path.display())]
+    Write {
+        /// The file or folder.
+        path: PathBuf,
+        /// What failed (I/O, PNG or JSON encoding).
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
+    /// A bundle file the reader's crate writes (the lidar truth) failed.
+    #[error(transparent)]
+    Bundle(#[from] metamoran_bundle::error::InputError),
+}
+
 use layout::Preset;
 use metamoran_bundle::geometry::CameraModel;
 use metamoran_bundle::{CameraConfig, Ego, Instance, Truth, TruthFrame, TruthObject};
@@ -301,14 +318,14 @@ fn truth_object(
 /// Simulates scene `index` of a run and writes it into `dir`.
 ///
 /// # Errors
-/// A message naming the file that could not be written.
+/// [`SimError`] naming the file that could not be written.
 pub fn simulate_one(
     preset: Preset,
     kind: RadarKind,
     seed: u64,
     index: u64,
     dir: &Path,
-) -> Result<(), String> {
+) -> Result<(), SimError> {
     let s = simulate_scene(preset, kind, seed, index);
     let name = dir
         .file_name()
@@ -340,9 +357,11 @@ pub fn simulate(
     count: u64,
     out: &Path,
     done: &(dyn Fn() + Sync),
-) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(out)
-        .map_err(|e| format!("{}: cannot create the folder ({e})", out.display()))?;
+) -> Result<Vec<PathBuf>, SimError> {
+    std::fs::create_dir_all(out).map_err(|e| SimError::Write {
+        path: out.to_owned(),
+        source: e.into(),
+    })?;
     let dirs: Vec<PathBuf> = (0..count)
         .map(|k| out.join(format!("{}-{seed}-{k:04}", preset.name())))
         .collect();

@@ -1,11 +1,15 @@
 //! Writing a scene bundle exactly as bundle.md lays it out.
 
+use crate::SimError;
 use dsp::config::RadarConfig;
 use metamoran_bundle::{ADC_LAYOUT, CameraConfig, FORMAT, Truth};
 use std::path::Path;
 
-fn io(path: &Path, e: impl std::fmt::Display) -> String {
-    format!("{}: cannot write ({e})", path.display())
+fn io(path: &Path, e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> SimError {
+    SimError::Write {
+        path: path.to_owned(),
+        source: e.into(),
+    }
 }
 
 /// `scene.toml` text for a radar and camera configuration.
@@ -57,8 +61,8 @@ pub fn scene_toml(name: &str, radar: &RadarConfig, camera: &CameraConfig) -> Str
 /// Writes a 16-bit grayscale PNG.
 ///
 /// # Errors
-/// A message naming the file.
-pub fn png16(path: &Path, width: u32, height: u32, values: &[u16]) -> Result<(), String> {
+/// [`SimError`] naming the file.
+pub fn png16(path: &Path, width: u32, height: u32, values: &[u16]) -> Result<(), SimError> {
     let file = std::fs::File::create(path).map_err(|e| io(path, e))?;
     let mut enc = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     enc.set_color(png::ColorType::Grayscale);
@@ -92,8 +96,8 @@ pub struct BundleContents<'a> {
 /// Writes a bundle into folder `dir` (created).
 ///
 /// # Errors
-/// A message naming the file that could not be written.
-pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), String> {
+/// [`SimError`] naming the file that could not be written.
+pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), SimError> {
     let cam = dir.join("camera");
     std::fs::create_dir_all(&cam).map_err(|e| io(&cam, e))?;
     let p = dir.join("scene.toml");

@@ -53,7 +53,7 @@ fn field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
 }
 
 /// Sizes of `elf`'s sections from `size -A`.
-fn sections(elf: &Path) -> Result<Vec<(String, u64)>, String> {
+fn sections(elf: &Path) -> Result<Vec<(String, u64)>, crate::Error> {
     let out = Command::new("size")
         .arg("-A")
         .arg(elf)
@@ -64,7 +64,8 @@ fn sections(elf: &Path) -> Result<Vec<(String, u64)>, String> {
             "size -A {}: {}",
             elf.display(),
             String::from_utf8_lossy(&out.stderr)
-        ));
+        )
+        .into());
     }
     Ok(String::from_utf8_lossy(&out.stdout)
         .lines()
@@ -80,7 +81,7 @@ fn sections(elf: &Path) -> Result<Vec<(String, u64)>, String> {
 ///
 /// # Errors
 /// A message if a build, QEMU or `size` fails or prints something unexpected.
-pub fn run(firmware: &Path) -> Result<Budget, String> {
+pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
     let edge = qemu::build(firmware, "edge")?;
     let secs = sections(&edge)?;
     let sum = |names: &[&str]| -> u64 {
@@ -129,7 +130,7 @@ pub fn run(firmware: &Path) -> Result<Budget, String> {
 
     // The uplink of the budget frame: one Results message, measured with 4 objects and with
     // none, so the per-object figure is each object's own share of the wire.
-    let frame_bytes = |objects: &[ObjectResult]| -> Result<u64, String> {
+    let frame_bytes = |objects: &[ObjectResult]| -> Result<u64, crate::Error> {
         let mut sender = Sender::new(Key::new(&DEV_KEY), Stream::Uplink);
         let mut buf = [0u8; MAX_WIRE];
         let summary = FrameSummary {
@@ -163,7 +164,7 @@ pub fn run(firmware: &Path) -> Result<Budget, String> {
 }
 
 /// Stack high-water mark of the `edge` firmware over a session on a simulated cascade bundle.
-fn edge_stack(firmware: &Path) -> Result<u64, String> {
+fn edge_stack(firmware: &Path) -> Result<u64, crate::Error> {
     use metamoran_process::{Mode, ProcessOptions, Runner, process_streamed};
     use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
     let dir = std::env::temp_dir().join(format!("metamoran-budget-{}", std::process::id()));

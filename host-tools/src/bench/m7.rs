@@ -44,7 +44,7 @@ pub struct M7Report {
 ///
 /// # Errors
 /// A message if the build or QEMU fails or the output cannot be parsed.
-pub fn run(firmware: &std::path::Path) -> Result<M7Report, String> {
+pub fn run(firmware: &std::path::Path) -> Result<M7Report, crate::Error> {
     let elf = qemu::build(firmware, "fft-icount")?;
     let out = qemu::run(&elf, true, Duration::from_secs(120))?;
     let mut fft = Vec::new();
@@ -78,7 +78,7 @@ pub fn run(firmware: &std::path::Path) -> Result<M7Report, String> {
         });
     }
     if fft.is_empty() {
-        return Err(format!("the benchmark printed no counts:\n{out}"));
+        return Err(format!("the benchmark printed no counts:\n{out}").into());
     }
     Ok(M7Report {
         method: "qemu-system-arm -machine mps2-an500 -icount shift=0; CMSDK timer 0 ticks x 40",

@@ -32,11 +32,13 @@ pub struct NetworkReport {
     pub path_fps: f64,
 }
 
-fn per_run(mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
-    f()?;
+fn per_run<E: Into<crate::Error>>(
+    mut f: impl FnMut() -> Result<(), E>,
+) -> Result<f64, crate::Error> {
+    f().map_err(Into::into)?;
     let t = Instant::now();
     for _ in 0..REPEATS {
-        f()?;
+        f().map_err(Into::into)?;
     }
     Ok(t.elapsed().as_secs_f64() * 1e3 / f64::from(REPEATS))
 }
@@ -45,7 +47,7 @@ fn per_run(mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
 ///
 /// # Errors
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
-pub fn run() -> Result<NetworkReport, String> {
+pub fn run() -> Result<NetworkReport, crate::Error> {
     let network = CompletionNetwork::load(None)?;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(
@@ -68,7 +70,7 @@ pub fn run() -> Result<NetworkReport, String> {
         network_ms += per_run(|| network.complete(last).map(drop))?;
         ip_basic_ms += per_run(|| {
             metamoran_map::ip_basic::complete(last);
-            Ok(())
+            Ok::<_, crate::Error>(())
         })?;
     }
     let s = bundles.len() as f64;

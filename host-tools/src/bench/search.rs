@@ -39,7 +39,7 @@ pub struct SearchReport {
 ///
 /// # Errors
 /// A message if the scene has no object to search.
-pub fn run() -> Result<SearchReport, String> {
+pub fn run() -> Result<SearchReport, crate::Error> {
     let scene = simulate_scene(Preset::LongRange, RadarKind::Cascade, 7, 0);
     let mut frame = vec![CQ15::default(); scene.radar.samples_per_frame()];
     deinterleave_bytes(&scene.adc, IqOrder::Iiqq, &mut frame).map_err(|e| e.to_string())?;

@@ -121,7 +121,7 @@ impl BundleArgs {
     ///
     /// # Errors
     /// A model that cannot be loaded.
-    pub fn options(&self) -> Result<OpenOptions, String> {
+    pub fn options(&self) -> Result<OpenOptions, metamoran_bundle::error::InputError> {
         Ok(OpenOptions {
             iq_order: self.iq_order.into(),
             camera_models: CameraModels::load(

@@ -90,7 +90,11 @@ pub fn run(args: &Args) -> super::Result {
 }
 
 /// Writes `img` as `out/name`, a 16-bit KITTI PNG.
-fn png(out: &Path, name: &str, img: &cylinder::DepthImage) -> Result<(), String> {
+fn png(
+    out: &Path,
+    name: &str,
+    img: &cylinder::DepthImage,
+) -> Result<(), metamoran_operator::OperatorError> {
     metamoran_operator::depth_image::write_png16(
         &out.join(name),
         cylinder::WIDTH as u32,

@@ -15,7 +15,7 @@ pub mod simulate;
 pub mod summarize;
 
 /// What a command returns: any library error, shown by `main` as `error: …`.
-pub type Result = std::result::Result<(), Box<dyn std::error::Error>>;
+pub type Result = std::result::Result<(), metamoran::Error>;
 
 /// Prints `value` as pretty JSON, or through its `Display` (the report's table).
 ///

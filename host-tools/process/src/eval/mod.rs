@@ -5,6 +5,7 @@
 
 pub mod metrics;
 
+use crate::ProcessError;
 use crate::{Mode, ProcessOptions, process};
 use metamoran_bundle::Truth;
 use metrics::{median, modified_hausdorff, quantile, std_dev};
@@ -108,10 +109,12 @@ fn range_key(lo: f64, hi: f64) -> String {
 /// The bundle folders inside `dir` (those with a scene.toml), sorted.
 ///
 /// # Errors
-/// A message if `dir` cannot be listed or holds no bundle.
-pub fn bundles_in(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let entries =
-        std::fs::read_dir(dir).map_err(|e| format!("{}: cannot list it ({e})", dir.display()))?;
+/// [`ProcessError`] if `dir` cannot be listed or holds no bundle.
+pub fn bundles_in(dir: &Path) -> Result<Vec<PathBuf>, ProcessError> {
+    let entries = std::fs::read_dir(dir).map_err(|source| ProcessError::List {
+        dir: dir.to_owned(),
+        source,
+    })?;
     let mut v: Vec<PathBuf> = entries
         .filter_map(Result::ok)
         .map(|e| e.path())
@@ -119,16 +122,15 @@ pub fn bundles_in(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .collect();
     v.sort();
     if v.is_empty() {
-        return Err(format!(
-            "{}: no bundle folders (with scene.toml) inside; make some with `metamoran simulate`",
-            dir.display()
-        ));
+        return Err(ProcessError::NoBundles {
+            dir: dir.to_owned(),
+        });
     }
     Ok(v)
 }
 
 /// Evaluates one bundle under every mode.
-fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, String> {
+fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, ProcessError> {
     let truth_path = dir.join("truth.json");
     let bundle = dir
         .file_name()
@@ -136,7 +138,7 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, String> {
     let mut samples = Vec::new();
     for &mode in modes {
         let out = process(dir, &ProcessOptions::mode(mode))?;
-        let truth = Truth::read(&truth_path, out.frames.len() as u32).map_err(|e| e.to_string())?;
+        let truth = Truth::read(&truth_path, out.frames.len() as u32)?;
         for f in &out.frames {
             let Some(tf) = truth.frames.iter().find(|t| t.frame == f.frame) else {
                 continue;
@@ -165,14 +167,14 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, String> {
 /// thread) as each bundle is finished, for a progress bar.
 ///
 /// # Errors
-/// A message if `dir` holds no bundle. Bundles that fail are listed in the report.
+/// [`ProcessError`] if `dir` holds no bundle. Bundles that fail are listed in the report.
 pub fn run(
     dir: &Path,
     modes: &[Mode],
     done: &(dyn Fn() + Sync),
-) -> Result<(Report, Vec<Sample>), String> {
+) -> Result<(Report, Vec<Sample>), ProcessError> {
     let dirs = bundles_in(dir)?;
-    let results: Vec<Result<Vec<Sample>, String>> = dirs
+    let results: Vec<Result<Vec<Sample>, ProcessError>> = dirs
         .par_iter()
         .map(|d| {
             let r = evaluate(d, modes);
@@ -185,7 +187,7 @@ pub fn run(
     for r in results {
         match r {
             Ok(s) => samples.extend(s),
-            Err(e) => failed.push(e),
+            Err(e) => failed.push(e.to_string()),
         }
     }
     let mut reports = BTreeMap::new();
