@@ -262,6 +262,32 @@ impl Edge {
     ///
     /// # Errors
     /// [`PipelineError::Array`] if the configuration has no usable array.
+    ///
+    /// # Example
+    /// A 2 TX × 4 RX board: 8 virtual elements, 256 samples per chirp; the frame arena holds
+    /// one range spectrum per element.
+    /// ```
+    /// use dsp::config::RadarConfig;
+    /// use dsp::pipeline::Edge;
+    ///
+    /// let config = RadarConfig {
+    ///     start_frequency_hz: 77e9,
+    ///     slope_hz_per_s: 30e12,
+    ///     sample_rate_hz: 10e6,
+    ///     adc_samples: 256,
+    ///     chirp_period_s: 60e-6,
+    ///     chirps_per_tx: 16,
+    ///     frames: 1,
+    ///     frame_period_s: 0.1,
+    ///     tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap(),
+    ///     rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap(),
+    ///     tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap(),
+    /// };
+    /// let edge = Edge::new(&config)?;
+    /// assert_eq!((edge.samples(), edge.rows_per_frame()), (256, 2 * 4 * 16));
+    /// assert!(edge.arena_words() >= 8 * 256);
+    /// # Ok::<(), dsp::pipeline::PipelineError>(())
+    /// ```
     pub fn new(config: &RadarConfig) -> Result<Self, PipelineError> {
         let n = config.adc_samples as usize;
         let mut w = Vec::new();

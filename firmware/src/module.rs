@@ -18,8 +18,8 @@ use dsp::fixed::CQ15;
 use dsp::pipeline::{Edge, ObjectHint};
 use dsp::wire::message::MAX_OBJECTS;
 use dsp::wire::{
-    Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, Receiver,
-    Sender, Stream, Uplink,
+    Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, ObjectResult,
+    Receiver, Sender, Stream, Uplink,
 };
 use embedded_io::{Read, ReadReady, Write};
 use heapless::Vec;
@@ -30,6 +30,9 @@ pub const MAX_SAMPLES: usize = 1024;
 pub const QUEUE: usize = 40;
 /// Firmware version in the `Hello` message (major · 10000 + minor · 100 + patch).
 pub const FIRMWARE_VERSION: u32 = 100;
+
+/// A frame's summary (without its time), its results, and how many objects failed.
+type FrameResults = (FrameSummary, Vec<ObjectResult, MAX_OBJECTS>, u32);
 
 /// The module's working memory besides the frame arena (about 36 KiB); put it in a static.
 pub struct Scratch {
@@ -241,55 +244,60 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         }
     }
 
-    /// Reads frame `frame` from the capture source and runs the pipeline on it.
+    /// Reads frame `frame` from the capture source, runs the pipeline on it and queues its
+    /// results; a failure is counted and reported as a fault instead.
     fn frame(&mut self, frame: u32) {
         let start = self.clock.micros();
-        let Some(edge) = self.edge.as_ref() else {
-            self.health.protocol_errors += 1;
-            self.fault(frame, Fault::NoConfig);
-            return;
+        let (mut summary, objects, failed) = match self.run_frame(frame) {
+            Ok(done) => done,
+            Err(fault) => return self.fail(frame, fault),
         };
+        // Reported once the scratch is free (still before the frame's results).
+        for _ in 0..failed {
+            self.fail(frame, Fault::Pipeline);
+        }
+        self.health.frames += 1;
+        summary.busy_us = self.clock.micros().wrapping_sub(start);
+        crate::info!(
+            "frame {=u32}: {=u8} of {=u8} objects detected, {=u8} peaks, {=u32} us",
+            frame,
+            summary.detected,
+            summary.objects,
+            summary.peaks,
+            summary.busy_us
+        );
+        self.queue.push(Uplink::Results { summary, objects });
+    }
+
+    /// The frame's sums from the capture source (skipping frames the host did not ask for),
+    /// the range stage, and the search for each hint: the frame's summary (without its time),
+    /// the results and how many objects failed.
+    fn run_frame(&mut self, frame: u32) -> Result<FrameResults, Fault> {
+        let edge = self.edge.as_ref().ok_or(Fault::NoConfig)?;
         if frame < self.next_frame {
             // The capture source only goes forward.
-            self.health.capture_errors += 1;
-            self.fault(frame, Fault::Capture);
-            return;
+            return Err(Fault::Capture);
         }
         let s = &mut *self.scratch;
         let n = usize::from(edge.samples());
         let rows = edge.rows_per_frame();
-        let bytes = s.bytes.get_mut(..4 * n);
-        let chirp = s.chirp.get_mut(..n);
-        let (Some(bytes), Some(chirp)) = (bytes, chirp) else {
-            self.health.pipeline_errors += 1;
-            self.fault(frame, Fault::Config);
-            return;
-        };
+        let bytes = s.bytes.get_mut(..4 * n).ok_or(Fault::Config)?;
+        let chirp = s.chirp.get_mut(..n).ok_or(Fault::Config)?;
         // Skip frames the host did not ask for.
         while self.next_frame < frame {
             for _ in 0..rows {
-                if self.capture.read_exact(bytes).is_err() {
-                    self.health.capture_errors += 1;
-                    self.fault(frame, Fault::Capture);
-                    return;
-                }
+                self.capture.read_exact(bytes).map_err(|_| Fault::Capture)?;
             }
             self.next_frame += 1;
         }
         self.next_frame = frame + 1;
-        let Ok(mut sum) = edge.start(self.arena) else {
-            self.health.pipeline_errors += 1;
-            self.fault(frame, Fault::Config);
-            return;
-        };
+        let mut sum = edge.start(self.arena).map_err(|_| Fault::Config)?;
         let rx = edge.rx_count();
         for row in 0..rows {
             let ok = self.capture.read_exact(bytes).is_ok()
                 && deinterleave_bytes(bytes, IqOrder::Iiqq, chirp).is_ok();
             if !ok {
-                self.health.capture_errors += 1;
-                self.fault(frame, Fault::Capture);
-                return;
+                return Err(Fault::Capture);
             }
             let (chirp_index, rx_index) = (row.checked_div(rx), row.checked_rem(rx));
             let pushed = match (chirp_index, rx_index) {
@@ -297,16 +305,12 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
                 _ => false,
             };
             if !pushed {
-                self.health.pipeline_errors += 1;
-                self.fault(frame, Fault::Pipeline);
-                return;
+                return Err(Fault::Pipeline);
             }
         }
-        let Ok(mut scene) = edge.finish(sum, &mut s.row, &mut s.azimuth, &mut s.powers) else {
-            self.health.pipeline_errors += 1;
-            self.fault(frame, Fault::Pipeline);
-            return;
-        };
+        let mut scene = edge
+            .finish(sum, &mut s.row, &mut s.azimuth, &mut s.powers)
+            .map_err(|_| Fault::Pipeline)?;
         let m = edge.fft_len().min(MAX_SAMPLES);
         let mut summary = FrameSummary {
             frame,
@@ -329,22 +333,18 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
                 Err(_) => failed += 1,
             }
         }
-        // Reported once the scratch is free (still before the frame's results).
-        for _ in 0..failed {
-            self.health.pipeline_errors += 1;
-            self.fault(frame, Fault::Pipeline);
+        Ok((summary, objects, failed))
+    }
+
+    /// Counts a failure in its health counter (protocol, capture or pipeline) and reports it.
+    fn fail(&mut self, frame: u32, fault: Fault) {
+        let h = &mut self.health;
+        match fault {
+            Fault::NoConfig | Fault::Hints | Fault::Link => h.protocol_errors += 1,
+            Fault::Capture => h.capture_errors += 1,
+            Fault::Config | Fault::Pipeline => h.pipeline_errors += 1,
         }
-        self.health.frames += 1;
-        summary.busy_us = self.clock.micros().wrapping_sub(start);
-        crate::info!(
-            "frame {=u32}: {=u8} of {=u8} objects detected, {=u8} peaks, {=u32} us",
-            frame,
-            summary.detected,
-            summary.objects,
-            summary.peaks,
-            summary.busy_us
-        );
-        self.queue.push(Uplink::Results { summary, objects });
+        self.fault(frame, fault);
     }
 
     /// Reports a (counted) error: logged now, sent to the host as a `Fault`.
@@ -397,7 +397,7 @@ mod tests {
     use crate::bench_scene;
     use crate::capture::SliceCapture;
     use crate::clock::StepClock;
-    use dsp::wire::{DEV_KEY, Fault, Health, LinkError, ObjectResult};
+    use dsp::wire::{DEV_KEY, Fault, Health, LinkError};
     use std::collections::VecDeque;
     use std::vec;
     use std::vec::Vec as StdVec;

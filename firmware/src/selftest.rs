@@ -45,6 +45,19 @@ fn hash_q31(buf: &[CQ31]) -> u32 {
 
 /// Runs every workload, calling `emit` with each outcome in a fixed order.
 pub fn run(mut emit: impl FnMut(Outcome)) {
+    fft_workloads(&mut emit);
+    let (range, spectrum) = range_workload();
+    emit(range);
+    emit(beamform_workload());
+    emit(cfar_workload(&spectrum));
+    emit(complex_mac_workload());
+    emit(frame_sum_workload());
+    emit(search_workload());
+}
+
+/// The Q15 FFT at every length (noise at −12 dBFS) and weak noise at 1024 points, the Q31 FFT
+/// and microfft's f32 FFT at 256 points.
+fn fft_workloads(emit: &mut impl FnMut(Outcome)) {
     const NAMES: [&str; 8] = [
         "q15_fft_16",
         "q15_fft_32",
@@ -99,8 +112,10 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
         exponent: u32::from(!ok),
         hash: h.0,
     });
+}
 
-    // Range FFT of a Hann-windowed tone at bin 40.5 plus weak noise.
+/// The range FFT of a Hann-windowed tone at bin 40.5 plus weak noise; also returns the spectrum.
+fn range_workload() -> (Outcome, [CQ15; 256]) {
     let window = Window::<200>::HANN;
     let mut samples = [CQ15::default(); 200];
     noise_q15(40, Q15(100), &mut samples);
@@ -113,13 +128,16 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
     let e = RangeProcessor::new(200, 256, Some(&window))
         .and_then(|p| p.process(&samples, &mut out))
         .map_or(u32::MAX, |e| e.0);
-    emit(Outcome {
+    let outcome = Outcome {
         name: "range_hann_200_in_256",
         exponent: e,
         hash: hash_q15(&out),
-    });
+    };
+    (outcome, out)
+}
 
-    // Beamforming over an overlapping, gapped array at several angles.
+/// Beamforming over an overlapping, gapped array at several angles.
+fn beamform_workload() -> Outcome {
     let config = RadarConfig {
         start_frequency_hz: 77e9,
         slope_hz_per_s: 30e12,
@@ -146,15 +164,17 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
             }
         }
     }
-    emit(Outcome {
+    Outcome {
         name: "beamform_gapped",
         exponent: 0,
         hash: h.0,
-    });
+    }
+}
 
-    // OS-CFAR on a magnitude profile.
+/// OS-CFAR on the magnitude profile of `spectrum`.
+fn cfar_workload(spectrum: &[CQ15; 256]) -> Outcome {
     let mut profile = [0f32; 256];
-    for (p, z) in profile.iter_mut().zip(&out) {
+    for (p, z) in profile.iter_mut().zip(spectrum) {
         *p = dsp::doppler::magnitude(*z, dsp::fft::Exponent(0));
     }
     let cfar = Cfar {
@@ -168,13 +188,15 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
     let found = cfar
         .detect(&profile, |d| h.u32(d.index as u32))
         .unwrap_or(usize::MAX);
-    emit(Outcome {
+    Outcome {
         name: "os_cfar_256",
         exponent: found as u32,
         hash: h.0,
-    });
+    }
+}
 
-    // The beams' dual-MAC loop at every length across its four-pair turns and remainders.
+/// The beams' dual-MAC loop at every length across its four-pair turns and remainders.
+fn complex_mac_workload() -> Outcome {
     let mut x = [CQ15::default(); 48];
     let mut w = [CQ15::default(); 48];
     noise_q15(48, Q15(32767), &mut x);
@@ -189,15 +211,11 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
         h.u32(im as u32);
         h.u32((im >> 32) as u32);
     }
-    emit(Outcome {
+    Outcome {
         name: "complex_mac_0_to_48",
         exponent: 0,
         hash: h.0,
-    });
-
-    emit(frame_sum_workload());
-
-    emit(search_workload());
+    }
 }
 
 /// Frame sums at every chirp length 1..=9 (the widening loop's pairs and odd word), two

@@ -239,27 +239,9 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     let (edge, perimeter, mqtt, live) = (*edge, perimeter.as_deref(), mqtt.as_ref(), *live);
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
-    let perimeter_file = out.join("perimeter.toml");
-    let perimeter = match perimeter {
-        Some(p) => {
-            let loaded = Perimeter::load(p)?;
-            std::fs::copy(p, &perimeter_file)
-                .map_err(|e| format!("{}: cannot copy ({e})", perimeter_file.display()))?;
-            loaded
-        }
-        None => {
-            write(&perimeter_file, PERIMETER.as_bytes())?;
-            Perimeter::parse(PERIMETER)?
-        }
-    };
-    let scenes = out.join("scene");
-    if scenes.exists() {
-        std::fs::remove_dir_all(&scenes)
-            .map_err(|e| format!("{}: cannot replace ({e})", scenes.display()))?;
-    }
-    let (preset, radar, seed) = SCENE;
-    let dirs = metamoran_sim::simulate(preset, radar, seed, 1, &scenes, &|| ())?;
-    let bundle = dirs.first().ok_or("the simulator wrote no scene")?;
+    let perimeter = install_perimeter(out, perimeter)?;
+    let (preset, _, _) = SCENE;
+    let bundle = &simulate_scene(out)?;
     let opts = OpenOptions::default();
     // The bundle the module will process: its frame period and camera.
     let scene = metamoran_bundle::Bundle::open(bundle, opts.clone())
@@ -272,11 +254,6 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         .transpose()?;
     let published = Published::default();
     let mut view = if live { Some(LiveView::start()?) } else { None };
-    let qemu = firmware.as_ref().map(|firmware| Runner::Qemu {
-        firmware: firmware.clone(),
-        key: dsp::wire::Key::new(&dsp::wire::DEV_KEY),
-    });
-    let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)";
     let mut run_on = |runner: Runner, words: &str| {
         let mut op = Operator {
             fence: Geofence::new(perimeter.clone()),
@@ -303,33 +280,14 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         let r = process_streamed(bundle, &options, |e| op.frame(e))?;
         Ok::<_, crate::Error>((r, op.state))
     };
-    let ((output, log), state) = match (edge, qemu) {
-        (DemoEdge::InProcess, _) => {
-            run_on(Runner::InProcess, "in this process (--edge in-process)")?
-        }
-        (DemoEdge::Qemu, Some(q)) => run_on(q, qemu_words)?,
-        (DemoEdge::Qemu, None) => {
-            return Err(
-                "--edge qemu: the firmware sources were not found; give --firmware DIR".into(),
-            );
-        }
-        (DemoEdge::Auto, Some(q)) if metamoran_edge::qemu::available() => {
-            match run_on(q, qemu_words) {
-                Ok(r) => r,
-                Err(e) => run_on(
-                    Runner::InProcess,
-                    &format!("in this process: QEMU could not run the firmware ({e})"),
-                )?,
-            }
-        }
-        (DemoEdge::Auto, Some(_)) => run_on(
+    let (runner, words, fallback) = plan(edge, firmware.as_deref())?;
+    let ((output, log), state) = match run_on(runner, &words) {
+        Ok(r) => r,
+        Err(e) if fallback => run_on(
             Runner::InProcess,
-            "in this process: qemu-system-arm is not installed (apt-get install -y qemu-system-arm)",
+            &format!("in this process: QEMU could not run the firmware ({e})"),
         )?,
-        (DemoEdge::Auto, None) => run_on(
-            Runner::InProcess,
-            "in this process: no firmware sources to build (run from a checkout or give --firmware DIR)",
-        )?,
+        Err(e) => return Err(e),
     };
     drop(view);
     let OperatorState {
@@ -352,40 +310,14 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         }
         _ => None,
     };
-
-    let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
-    files.extend(write_outputs(
+    let files = write_files(
         out,
         &CameraModel::new(&scene.camera),
         &output,
         period,
         &alerts,
-    )?);
-    let alert_lines: String = alerts
-        .iter()
-        .map(|a| serde_json::to_string(a).unwrap_or_default() + "\n")
-        .collect();
-    write(&out.join("alerts.jsonl"), alert_lines.as_bytes())?;
-    files.push("alerts.jsonl".into());
-    let link = log.map(|l| {
-        let h = &l.health;
-        format!(
-            "module counted {} frames; its link accepted {}, rejected {} bad tags and {} replays, \
-             saw {} lost and {} reordered frames; {} capture, {} pipeline, {} protocol errors; \
-             {} queued messages dropped; stack high-water {} B",
-            h.frames,
-            h.link.accepted,
-            h.link.bad_tag,
-            h.link.replayed,
-            h.link.lost,
-            h.link.reordered,
-            h.capture_errors,
-            h.pipeline_errors,
-            h.protocol_errors,
-            h.queue_dropped,
-            h.stack_bytes
-        )
-    });
+    )?;
+    let link = log.map(|l| link_words(&l.health));
     let mut report = DemoReport {
         out: out.to_path_buf(),
         edge: edge_words,
@@ -399,6 +331,106 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     report.files.push("operator.txt".into());
     write(&out.join("operator.txt"), report.to_string().as_bytes())?;
     Ok(report)
+}
+
+/// Where the module runs for `edge`, in words, and whether a failure there falls back to this
+/// process (`--edge auto` with QEMU).
+fn plan(edge: DemoEdge, firmware: Option<&Path>) -> Result<(Runner, String, bool), crate::Error> {
+    let qemu = firmware.map(|firmware| Runner::Qemu {
+        firmware: firmware.to_owned(),
+        key: dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+    });
+    let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned();
+    let here = |why: &str| (Runner::InProcess, format!("in this process{why}"), false);
+    Ok(match (edge, qemu) {
+        (DemoEdge::InProcess, _) => here(" (--edge in-process)"),
+        (DemoEdge::Qemu, Some(q)) => (q, qemu_words, false),
+        (DemoEdge::Qemu, None) => {
+            return Err(
+                "--edge qemu: the firmware sources were not found; give --firmware DIR".into(),
+            );
+        }
+        (DemoEdge::Auto, Some(q)) if metamoran_edge::qemu::available() => (q, qemu_words, true),
+        (DemoEdge::Auto, Some(_)) => {
+            here(": qemu-system-arm is not installed (apt-get install -y qemu-system-arm)")
+        }
+        (DemoEdge::Auto, None) => {
+            here(": no firmware sources to build (run from a checkout or give --firmware DIR)")
+        }
+    })
+}
+
+/// The perimeter to watch, written to `OUT/perimeter.toml`: the file given (checked, then
+/// copied) or the built-in [`PERIMETER`].
+fn install_perimeter(out: &Path, given: Option<&Path>) -> Result<Perimeter, crate::Error> {
+    let perimeter_file = out.join("perimeter.toml");
+    Ok(match given {
+        Some(p) => {
+            let loaded = Perimeter::load(p)?;
+            std::fs::copy(p, &perimeter_file)
+                .map_err(|e| format!("{}: cannot copy ({e})", perimeter_file.display()))?;
+            loaded
+        }
+        None => {
+            write(&perimeter_file, PERIMETER.as_bytes())?;
+            Perimeter::parse(PERIMETER)?
+        }
+    })
+}
+
+/// Simulates the built-in [`SCENE`] afresh into `OUT/scene/`; returns its bundle folder.
+fn simulate_scene(out: &Path) -> Result<PathBuf, crate::Error> {
+    let scenes = out.join("scene");
+    if scenes.exists() {
+        std::fs::remove_dir_all(&scenes)
+            .map_err(|e| format!("{}: cannot replace ({e})", scenes.display()))?;
+    }
+    let (preset, radar, seed) = SCENE;
+    let dirs = metamoran_sim::simulate(preset, radar, seed, 1, &scenes, &|| ())?;
+    Ok(dirs
+        .into_iter()
+        .next()
+        .ok_or("the simulator wrote no scene")?)
+}
+
+/// Writes the run's files into `out` (see [`write_outputs`], plus `alerts.jsonl`); returns
+/// their names, with the perimeter and the scene written before.
+fn write_files(
+    out: &Path,
+    camera: &CameraModel,
+    output: &metamoran_process::ProcessOutput,
+    period_s: f64,
+    alerts: &[Alert],
+) -> Result<Vec<String>, crate::Error> {
+    let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
+    files.extend(write_outputs(out, camera, output, period_s, alerts)?);
+    let alert_lines: String = alerts
+        .iter()
+        .map(|a| serde_json::to_string(a).unwrap_or_default() + "\n")
+        .collect();
+    write(&out.join("alerts.jsonl"), alert_lines.as_bytes())?;
+    files.push("alerts.jsonl".into());
+    Ok(files)
+}
+
+/// The module's health counters in words, for the report.
+fn link_words(h: &dsp::wire::Health) -> String {
+    format!(
+        "module counted {} frames; its link accepted {}, rejected {} bad tags and {} replays, \
+         saw {} lost and {} reordered frames; {} capture, {} pipeline, {} protocol errors; \
+         {} queued messages dropped; stack high-water {} B",
+        h.frames,
+        h.link.accepted,
+        h.link.bad_tag,
+        h.link.replayed,
+        h.link.lost,
+        h.link.reordered,
+        h.capture_errors,
+        h.pipeline_errors,
+        h.protocol_errors,
+        h.queue_dropped,
+        h.stack_bytes
+    )
 }
 
 #[cfg(test)]

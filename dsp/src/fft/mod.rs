@@ -92,6 +92,28 @@ fn check(n: usize) -> Result<(), FftError> {
 ///
 /// # Errors
 /// [`FftError::UnsupportedLength`] unless `buf.len()` is a power of two in `16..=2048`.
+///
+/// # Example
+/// A half-scale tone at bin 3 of a 16-point FFT:
+/// ```
+/// use dsp::fft::cfft_q15;
+/// use dsp::fixed::{CQ15, Q15};
+/// use dsp::trig::{Phase, expj_neg};
+///
+/// let mut x = [CQ15::default(); 16];
+/// for (n, z) in x.iter_mut().enumerate() {
+///     let t = expj_neg(Phase::from_turns(-3.0 * n as f64 / 16.0)); // exp(+j2π·3n/16)
+///     *z = CQ15::new(Q15(t.re.0 / 2), Q15(t.im.0 / 2));
+/// }
+/// let exponent = cfft_q15(&mut x)?;
+/// let power = |z: &CQ15| i32::from(z.re.0).pow(2) + i32::from(z.im.0).pow(2);
+/// let peak = (0..16).max_by_key(|&k| power(&x[k])).unwrap();
+/// assert_eq!(peak, 3);
+/// // The true DFT is the output · 2^exponent: 16 samples of amplitude ½ sum to 8.
+/// let amplitude = x[3].re.to_f32() * 2f32.powi(exponent.0 as i32);
+/// assert!((amplitude - 8.0).abs() < 0.05, "{amplitude}");
+/// # Ok::<(), dsp::fft::FftError>(())
+/// ```
 pub fn cfft_q15(buf: &mut [CQ15]) -> Result<Exponent, FftError> {
     check(buf.len())?;
     Ok(Exponent(q15::fft_in_place(buf)))

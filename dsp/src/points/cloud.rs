@@ -154,16 +154,7 @@ pub fn frame_points(
             if v < floor {
                 return;
             }
-            let higher = (-1i32..=1).any(|dr| {
-                (-1i32..=1).any(|dd| {
-                    let rb = b as i32 + dr;
-                    (dr, dd) != (0, 0)
-                        && rb >= 0
-                        && (rb as usize) < bins
-                        && at(rb as usize, (d as i32 + dd + nd as i32) as usize) > v
-                })
-            });
-            if higher {
+            if !is_map_peak(map, (bins, nd), (b, d)) {
                 return;
             }
             let range_off = if b > 0 && b + 1 < bins {
@@ -176,46 +167,18 @@ pub fn frame_points(
                 return;
             }
             if loaded != b {
-                for ch in 0..channels {
-                    match doppler_column(cube, ch, b, doppler, scratch) {
-                        Ok(e) => {
-                            let scale = (1.0 / 32768.0) * e.scale_f32();
-                            for (o, z) in spectra[ch * nd..(ch + 1) * nd].iter_mut().zip(&*scratch)
-                            {
-                                *o = Complex32::new(
-                                    f32::from(z.re.0) * scale,
-                                    f32::from(z.im.0) * scale,
-                                );
-                            }
-                        }
-                        Err(e) => {
-                            failed = Some(PointsError::Doppler(e));
-                            return;
-                        }
-                    }
+                if let Err(e) = doppler_spectra(cube, b, doppler, scratch, spectra) {
+                    failed = Some(e);
+                    return;
                 }
                 loaded = b;
             }
             let spectra: &[Complex32] = spectra;
             let slots = config.slots() as f32;
             let rx = config.rx_count();
-            // Channel values of Doppler bin `k` (wrapping), with the TDM-MIMO phase of the
-            // Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target
-            // at Doppler bin `k` has advanced `2π·k·s / (nd·slots)` there.
+            // Channel values of Doppler bin `k`, TDM-MIMO Doppler phase removed.
             let cell_at = |k: usize, out: &mut [Complex32]| {
-                let k = k % nd;
-                let signed = if k >= nd / 2 {
-                    k as f32 - nd as f32
-                } else {
-                    k as f32
-                };
-                for (ch, o) in out.iter_mut().enumerate().take(channels) {
-                    let slot = (ch / rx) as f32;
-                    let phi = -core::f32::consts::TAU * signed * slot / (nd as f32 * slots);
-                    let (si, co) = (sinf(phi), cosf(phi));
-                    let z = spectra[ch * nd + k];
-                    *o = Complex32::new(z.re * co - z.im * si, z.re * si + z.im * co);
-                }
+                compensated_cell(spectra, (nd, rx, slots), k, out);
             };
             cell_at(d, &mut values[..channels]);
             // The direction's power in Doppler bin `k`.
@@ -230,22 +193,7 @@ pub fn frame_points(
                 options.direction_floor_db,
                 |dir| {
                     let s = sinf(dir.azimuth);
-                    // Climb to the direction's own Doppler peak (at most two bins), then interpolate.
-                    let mut k = d + nd;
-                    let mut here = power(k, s);
-                    for _ in 0..2 {
-                        let (l, r) = (power(k - 1, s), power(k + 1, s));
-                        if l > here && l >= r {
-                            k -= 1;
-                            here = l;
-                        } else if r > here {
-                            k += 1;
-                            here = r;
-                        } else {
-                            break;
-                        }
-                    }
-                    let off = quadratic_offset(power(k - 1, s), here, power(k + 1, s));
+                    let (k, off) = doppler_peak(|k| power(k, s), d + nd);
                     let k = k % nd;
                     let signed = if k >= nd / 2 {
                         k as f32 - nd as f32
@@ -262,4 +210,84 @@ pub fn frame_points(
         Some(e) => Err(e),
         None => Ok(count),
     }
+}
+
+/// Whether cell `(b, d)` of the `bins × nd` range–Doppler `map` is a local maximum (Doppler
+/// wraps, range truncates).
+fn is_map_peak(map: &[f32], (bins, nd): (usize, usize), (b, d): (usize, usize)) -> bool {
+    let at = |b: usize, d: usize| map[b * nd + d % nd];
+    let v = at(b, d);
+    !(-1i32..=1).any(|dr| {
+        (-1i32..=1).any(|dd| {
+            let rb = b as i32 + dr;
+            (dr, dd) != (0, 0)
+                && rb >= 0
+                && (rb as usize) < bins
+                && at(rb as usize, (d as i32 + dd + nd as i32) as usize) > v
+        })
+    })
+}
+
+/// The Doppler spectra of range bin `b` of every channel into `spectra` (`channels × nd`,
+/// scaled to full scale 1), through `scratch` (`nd` values).
+fn doppler_spectra(
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[crate::fft::Exponent]>>,
+    b: usize,
+    doppler: &DopplerOptions<'_>,
+    scratch: &mut [CQ15],
+    spectra: &mut [Complex32],
+) -> Result<(), PointsError> {
+    let nd = scratch.len();
+    for ch in 0..cube.channels() {
+        let e = doppler_column(cube, ch, b, doppler, scratch).map_err(PointsError::Doppler)?;
+        let scale = (1.0 / 32768.0) * e.scale_f32();
+        for (o, z) in spectra[ch * nd..(ch + 1) * nd].iter_mut().zip(&*scratch) {
+            *o = Complex32::new(f32::from(z.re.0) * scale, f32::from(z.im.0) * scale);
+        }
+    }
+    Ok(())
+}
+
+/// Channel values of Doppler bin `k` (wrapping) into `out`, with the TDM-MIMO phase of the
+/// Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target at Doppler
+/// bin `k` has advanced `2π·k·s / (nd·slots)` there.
+fn compensated_cell(
+    spectra: &[Complex32],
+    (nd, rx, slots): (usize, usize, f32),
+    k: usize,
+    out: &mut [Complex32],
+) {
+    let k = k % nd;
+    let signed = if k >= nd / 2 {
+        k as f32 - nd as f32
+    } else {
+        k as f32
+    };
+    for (ch, o) in out.iter_mut().enumerate() {
+        let slot = (ch / rx) as f32;
+        let phi = -core::f32::consts::TAU * signed * slot / (nd as f32 * slots);
+        let (si, co) = (sinf(phi), cosf(phi));
+        let z = spectra[ch * nd + k];
+        *o = Complex32::new(z.re * co - z.im * si, z.re * si + z.im * co);
+    }
+}
+
+/// Climbs from Doppler bin `k` (offset by one period so `k − 1` does not wrap) to the
+/// direction's own peak of `power` (at most two bins); the peak's bin and its parabolic
+/// sub-bin offset.
+fn doppler_peak(power: impl Fn(usize) -> f32, mut k: usize) -> (usize, f32) {
+    let mut here = power(k);
+    for _ in 0..2 {
+        let (l, r) = (power(k - 1), power(k + 1));
+        if l > here && l >= r {
+            k -= 1;
+            here = l;
+        } else if r > here {
+            k += 1;
+            here = r;
+        } else {
+            break;
+        }
+    }
+    (k, quadratic_offset(power(k - 1), here, power(k + 1)))
 }

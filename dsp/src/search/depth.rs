@@ -315,38 +315,8 @@ pub fn coarse_to_fine(
         (libm::floorf(bins.1) as usize).min(m - 1),
     );
     // Points in the same direction share one beam (see `Contour::snapped`).
-    let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
-    let mut beam_of = [0usize; MAX_CONTOUR];
-    // Per direction: the smallest and largest coarse offset of its points.
-    let mut spread = [(usize::MAX, 0usize); MAX_CONTOUR];
-    for ((slot, pt), &(o, _)) in beam_of.iter_mut().zip(contour.points()).zip(&offsets) {
-        let s = pt.sin_az;
-        *slot = match dirs.iter().position(|&d| d == s) {
-            Some(i) => i,
-            None => {
-                let _ = dirs.push(s);
-                dirs.len() - 1
-            }
-        };
-        if let Some(r) = spread.get_mut(*slot) {
-            *r = (r.0.min(o), r.1.max(o));
-        }
-    }
-    // Bins a direction's points read: coarse d + o for d in lo..=hi; fine f = d + rel with
-    // |rel − o| ≤ ½ and d within ±1 of a candidate, so ⌊f⌋ ∈ [lo + o − 2, hi + o + 1], each
-    // interpolation ± the half width around it.
-    let mut rows = [Row::default(); MAX_CONTOUR];
-    let mut need = 0;
-    for (row, &(lo_o, hi_o)) in rows.iter_mut().zip(&spread).take(dirs.len()) {
-        let first = (lo + lo_o).saturating_sub(INTERP_HALF_WIDTH + 2);
-        let end = (hi + hi_o + INTERP_HALF_WIDTH + 3).min(m);
-        *row = Row {
-            at: need,
-            first,
-            len: end.saturating_sub(first),
-        };
-        need += row.len;
-    }
+    let (dirs, beam_of, spread) = directions(contour, &offsets);
+    let (rows, need) = beam_rows(&spread[..dirs.len()], (lo, hi), m);
     let Some(words) = profiles.get_mut(..2 * need) else {
         return Err(SearchError::Buffer {
             what: "profiles",
@@ -381,72 +351,21 @@ pub fn coarse_to_fine(
     macs += (k * win.len()) as u64;
     // 3. Best coarse candidates (local maxima, strongest first), then P on the fine grid
     //    around them.
-    let mut cands: [Option<(usize, f32)>; CANDIDATES] = [None; CANDIDATES];
-    for (i, &v) in win.iter().enumerate() {
-        let left = i.checked_sub(1).and_then(|j| win.get(j));
-        let is_peak = left.is_none_or(|&l| l <= v) && win.get(i + 1).is_none_or(|&r| r <= v);
-        if !is_peak {
-            continue;
-        }
-        if let Some(slot) = cands.iter().position(|c| c.is_none_or(|(_, s)| s < v)) {
-            // Insert, shifting the weaker ones down (the weakest drops out).
-            let mut carry = Some((lo + i, v));
-            for c in cands.iter_mut().skip(slot) {
-                carry = core::mem::replace(c, carry);
-            }
-        }
-    }
+    let cands = candidates(win, lo);
     // The fine points within ±1 bin of each candidate (strongest first), each listed once,
     // aligned with brute_force's grid from bins.0.
     let fine = FINE_STEPS_PER_BIN as f32;
-    let mut steps: heapless::Vec<usize, FINE_POINTS> = heapless::Vec::new();
-    for &(cand, _) in cands.iter().flatten() {
-        let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
-        let to = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
-        for s in from..=to {
-            if bins.0 + s as f32 / fine >= bins.1 {
-                break;
-            }
-            if !steps.contains(&s) {
-                let _ = steps.push(s);
-            }
-        }
-    }
-    // P at each of them. The weights of a point depend only on its fractional bin, which
-    // repeats every FINE_STEPS_PER_BIN steps: one row of weights serves every step of a phase.
-    let mut power = [0.0f32; FINE_POINTS];
-    let interp = Interpolator::new(geo.samples, m);
-    let mut weights = [C32::new(0.0, 0.0); INTERP_WIDTH];
-    for phase in 0..FINE_STEPS_PER_BIN {
-        for (&beam, &(_, rel)) in beam_of.iter().zip(&offsets).take(k) {
-            // Offset of the first weight's bin from the point (bins), once computed.
-            let mut row_x0 = None;
-            for (&s, p) in steps.iter().zip(power.iter_mut()) {
-                if s % FINE_STEPS_PER_BIN != phase {
-                    continue;
-                }
-                let f = bins.0 + s as f32 / fine + rel;
-                let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
-                let x0 = b0 as f32 - f;
-                // Rounding moves x0 by ~1e-5 bins between steps; a clipped start moves it by 1.
-                if row_x0.is_none_or(|r: f32| libm::fabsf(r - x0) > 1e-3) {
-                    interp.for_each(f, b0, INTERP_WIDTH, |b, w| {
-                        if let Some(slot) = weights.get_mut(b - b0) {
-                            *slot = w;
-                        }
-                    });
-                    row_x0 = Some(x0);
-                }
-                let width = INTERP_WIDTH.min(m - b0.min(m));
-                let mut z = C32::new(0.0, 0.0);
-                for (&b, &w) in prof.from(beam, b0).iter().zip(&weights[..width]) {
-                    z += b * w;
-                }
-                macs += width as u64;
-                *p += z.norm_sqr();
-            }
-        }
-    }
+    let steps = fine_points(&cands, bins);
+    // P at each of them.
+    let power = fine_scores(
+        &prof,
+        &steps,
+        &beam_of[..k],
+        &offsets[..k],
+        bins,
+        geo,
+        &mut macs,
+    );
     let mut best = (f32::NEG_INFINITY, 0.0f32);
     for (&s, &p) in steps.iter().zip(&power) {
         if p > best.0 {
@@ -470,6 +389,161 @@ pub fn coarse_to_fine(
         runner_up,
         macs,
     })
+}
+
+/// Directions of the contour's points: the distinct `sin θ` (points in the same direction
+/// share one beam), each point's direction index, and per direction the smallest and largest
+/// coarse offset of its points.
+#[inline(always)]
+fn directions(
+    contour: &Contour,
+    offsets: &[(usize, f32); MAX_CONTOUR],
+) -> (
+    heapless::Vec<f32, MAX_CONTOUR>,
+    [usize; MAX_CONTOUR],
+    [(usize, usize); MAX_CONTOUR],
+) {
+    let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
+    let mut beam_of = [0usize; MAX_CONTOUR];
+    // Per direction: the smallest and largest coarse offset of its points.
+    let mut spread = [(usize::MAX, 0usize); MAX_CONTOUR];
+    for ((slot, pt), &(o, _)) in beam_of.iter_mut().zip(contour.points()).zip(offsets) {
+        let s = pt.sin_az;
+        *slot = match dirs.iter().position(|&d| d == s) {
+            Some(i) => i,
+            None => {
+                let _ = dirs.push(s);
+                dirs.len() - 1
+            }
+        };
+        if let Some(r) = spread.get_mut(*slot) {
+            *r = (r.0.min(o), r.1.max(o));
+        }
+    }
+    (dirs, beam_of, spread)
+}
+
+/// Where each direction's beams go in the scratch and which bins they cover (from each
+/// direction's `spread` of coarse offsets and the searched bins `lo..=hi`); and the beams in all.
+#[inline(always)]
+fn beam_rows(
+    spread: &[(usize, usize)],
+    (lo, hi): (usize, usize),
+    m: usize,
+) -> ([Row; MAX_CONTOUR], usize) {
+    // Bins a direction's points read: coarse d + o for d in lo..=hi; fine f = d + rel with
+    // |rel − o| ≤ ½ and d within ±1 of a candidate, so ⌊f⌋ ∈ [lo + o − 2, hi + o + 1], each
+    // interpolation ± the half width around it.
+    let mut rows = [Row::default(); MAX_CONTOUR];
+    let mut need = 0;
+    for (row, &(lo_o, hi_o)) in rows.iter_mut().zip(spread) {
+        let first = (lo + lo_o).saturating_sub(INTERP_HALF_WIDTH + 2);
+        let end = (hi + hi_o + INTERP_HALF_WIDTH + 3).min(m);
+        *row = Row {
+            at: need,
+            first,
+            len: end.saturating_sub(first),
+        };
+        need += row.len;
+    }
+    (rows, need)
+}
+
+/// The [`CANDIDATES`] strongest local maxima of the coarse scores `win` (score of depth bin
+/// `lo + i` at `i`), strongest first, as (bin, score).
+#[inline(always)]
+fn candidates(win: &[f32], lo: usize) -> [Option<(usize, f32)>; CANDIDATES] {
+    let mut cands: [Option<(usize, f32)>; CANDIDATES] = [None; CANDIDATES];
+    for (i, &v) in win.iter().enumerate() {
+        let left = i.checked_sub(1).and_then(|j| win.get(j));
+        let is_peak = left.is_none_or(|&l| l <= v) && win.get(i + 1).is_none_or(|&r| r <= v);
+        if !is_peak {
+            continue;
+        }
+        if let Some(slot) = cands.iter().position(|c| c.is_none_or(|(_, s)| s < v)) {
+            // Insert, shifting the weaker ones down (the weakest drops out).
+            let mut carry = Some((lo + i, v));
+            for c in cands.iter_mut().skip(slot) {
+                carry = core::mem::replace(c, carry);
+            }
+        }
+    }
+    cands
+}
+
+/// The fine points within ±1 bin of each candidate (strongest first), each listed once, as
+/// steps of `1 / FINE_STEPS_PER_BIN` bin from `bins.0` (brute force's grid).
+#[inline(always)]
+fn fine_points(
+    cands: &[Option<(usize, f32)>; CANDIDATES],
+    bins: (f32, f32),
+) -> heapless::Vec<usize, FINE_POINTS> {
+    let fine = FINE_STEPS_PER_BIN as f32;
+    let mut steps: heapless::Vec<usize, FINE_POINTS> = heapless::Vec::new();
+    for &(cand, _) in cands.iter().flatten() {
+        let from = libm::ceilf((cand as f32 - 1.0 - bins.0) * fine).max(0.0) as usize;
+        let to = libm::floorf((cand as f32 + 1.0 - bins.0) * fine) as usize;
+        for s in from..=to {
+            if bins.0 + s as f32 / fine >= bins.1 {
+                break;
+            }
+            if !steps.contains(&s) {
+                let _ = steps.push(s);
+            }
+        }
+    }
+    steps
+}
+
+/// `P` at each fine point of `steps` from the beams in `prof` (each contour point's beam and
+/// fractional offset in `beam_of` and `offsets`), adding the MACs spent to `macs`. The weights
+/// of a point depend only on its fractional bin, which repeats every `FINE_STEPS_PER_BIN`
+/// steps: one row of weights serves every step of a phase.
+#[inline(always)]
+fn fine_scores(
+    prof: &Profiles<'_>,
+    steps: &[usize],
+    beam_of: &[usize],
+    offsets: &[(usize, f32)],
+    bins: (f32, f32),
+    geo: &Geometry<'_>,
+    macs: &mut u64,
+) -> [f32; FINE_POINTS] {
+    let (m, fine) = (geo.fft_len, FINE_STEPS_PER_BIN as f32);
+    let mut power = [0.0f32; FINE_POINTS];
+    let interp = Interpolator::new(geo.samples, m);
+    let mut weights = [C32::new(0.0, 0.0); INTERP_WIDTH];
+    for phase in 0..FINE_STEPS_PER_BIN {
+        for (&beam, &(_, rel)) in beam_of.iter().zip(offsets) {
+            // Offset of the first weight's bin from the point (bins), once computed.
+            let mut row_x0 = None;
+            for (&s, p) in steps.iter().zip(power.iter_mut()) {
+                if s % FINE_STEPS_PER_BIN != phase {
+                    continue;
+                }
+                let f = bins.0 + s as f32 / fine + rel;
+                let b0 = (libm::floorf(f) as usize).saturating_sub(INTERP_HALF_WIDTH);
+                let x0 = b0 as f32 - f;
+                // Rounding moves x0 by ~1e-5 bins between steps; a clipped start moves it by 1.
+                if row_x0.is_none_or(|r: f32| libm::fabsf(r - x0) > 1e-3) {
+                    interp.for_each(f, b0, INTERP_WIDTH, |b, w| {
+                        if let Some(slot) = weights.get_mut(b - b0) {
+                            *slot = w;
+                        }
+                    });
+                    row_x0 = Some(x0);
+                }
+                let width = INTERP_WIDTH.min(m - b0.min(m));
+                let mut z = C32::new(0.0, 0.0);
+                for (&b, &w) in prof.from(beam, b0).iter().zip(&weights[..width]) {
+                    z += b * w;
+                }
+                *macs += width as u64;
+                *p += z.norm_sqr();
+            }
+        }
+    }
+    power
 }
 
 #[cfg(test)]

@@ -15,6 +15,33 @@ use std::path::Path;
 ///
 /// # Errors
 /// [`InputError`] naming the first bad field.
+///
+/// # Example
+/// ```
+/// use metamoran_bundle::capture::parse_radar_config;
+/// use std::path::Path;
+///
+/// let text = r#"
+/// [radar]
+/// start_frequency_hz = 77e9
+/// slope_hz_per_s     = 29.982e12
+/// sample_rate_hz     = 10e6
+/// adc_samples        = 256
+/// chirp_period_s     = 60e-6
+/// chirps_per_tx      = 128
+/// frame_period_s     = 0.1
+/// tx_positions       = [0, 4]
+/// rx_positions       = [0, 1, 2, 3]
+/// tx_order           = [0, 1]
+/// "#;
+/// let config = parse_radar_config(Path::new("radar.toml"), text)?;
+/// assert_eq!((config.adc_samples, config.channels()), (256, 8));
+///
+/// let bad = text.replace("chirps_per_tx      = 128", "chirps_per_tx = -4");
+/// let err = parse_radar_config(Path::new("radar.toml"), &bad).unwrap_err();
+/// assert!(err.to_string().contains("radar.toml: field `radar.chirps_per_tx`"), "{err}");
+/// # Ok::<(), metamoran_bundle::error::InputError>(())
+/// ```
 pub fn parse_radar_config(path: &Path, text: &str) -> Result<RadarConfig, InputError> {
     let table = parse_toml(path, text)?;
     parse_radar(

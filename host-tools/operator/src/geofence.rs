@@ -237,6 +237,39 @@ impl Geofence {
 
     /// Updates the state with one frame's objects and returns the alerts it raises, by object
     /// then zone. O(objects × vertices).
+    ///
+    /// # Example
+    /// A person detected 12 m straight ahead, inside the gate zone, raises one `Enter` alert:
+    /// ```
+    /// use metamoran_operator::geofence::{AlertKind, Geofence, Perimeter};
+    /// use metamoran_process::ObjectEstimate;
+    ///
+    /// let perimeter = Perimeter::parse(
+    ///     r#"
+    ///     restricted_classes = ["person"]
+    ///     min_confidence_db = 6.0
+    ///     hysteresis_m = 1.0
+    ///     [[zone]]
+    ///     name = "gate"
+    ///     polygon = [[-3.0, 8.0], [3.0, 8.0], [3.0, 16.0], [-3.0, 16.0]]
+    ///     "#,
+    /// )?;
+    /// let mut fence = Geofence::new(perimeter);
+    /// let person = ObjectEstimate {
+    ///     instance: 4,
+    ///     class: "person".into(),
+    ///     detected: true,
+    ///     depth_m: Some(12.0),
+    ///     azimuth_deg: Some(0.0),
+    ///     points: Vec::new(),
+    ///     confidence_db: Some(20.0),
+    /// };
+    /// let alerts = fence.update(0, 0.0, &[person.clone()]);
+    /// assert_eq!(alerts.len(), 1);
+    /// assert_eq!((alerts[0].kind, alerts[0].zone.as_str()), (AlertKind::Enter, "gate"));
+    /// assert!(fence.update(1, 0.5, &[person]).is_empty(), "still inside: no new alert");
+    /// # Ok::<(), metamoran_operator::OperatorError>(())
+    /// ```
     pub fn update(&mut self, frame: u32, time_s: f64, objects: &[ObjectEstimate]) -> Vec<Alert> {
         let mut out = Vec::new();
         for o in objects {

@@ -107,7 +107,8 @@ fn opt(v: Option<f64>, places: usize) -> String {
     v.map_or("—".into(), |v| format!("{v:.places$}"))
 }
 
-/// Draws the operator view into `frame`.
+/// Draws the operator view into `frame`: the title, the objects, the latest alerts and the
+/// link's health, top to bottom.
 pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
     let [head, objects, alerts, link] = Layout::vertical([
         Constraint::Length(2),
@@ -127,9 +128,18 @@ pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
         ]),
         head,
     );
+    frame.render_widget(objects_table(&s.tracks, bold), objects);
+    frame.render_widget(alert_list(&s.alerts), alerts);
+    frame.render_widget(
+        Paragraph::new(link_line(&s.link)).block(Block::bordered().title(" link ")),
+        link,
+    );
+}
 
+/// The objects, one row each; rows of objects inside a zone in red.
+fn objects_table(tracks: &[Track], bold: Style) -> Table<'_> {
     let header = Row::new(["id", "class", "depth m", "az °", "conf dB", "zones"]).style(bold);
-    let rows = s.tracks.iter().map(|t| {
+    let rows = tracks.iter().map(|t| {
         let zones = if t.zones.is_empty() {
             "—".to_owned()
         } else {
@@ -158,18 +168,18 @@ pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
         Constraint::Length(8),
         Constraint::Min(10),
     ];
-    frame.render_widget(
-        Table::new(rows, widths)
-            .header(header)
-            .block(Block::bordered().title(" objects ")),
-        objects,
-    );
+    Table::new(rows, widths)
+        .header(header)
+        .block(Block::bordered().title(" objects "))
+}
 
-    let first = s.alerts.len().saturating_sub(ALERT_LINES);
-    let lines: Vec<Line<'_>> = if s.alerts.is_empty() {
+/// The latest [`ALERT_LINES`] alerts, oldest first.
+fn alert_list(alerts: &[Alert]) -> Paragraph<'static> {
+    let first = alerts.len().saturating_sub(ALERT_LINES);
+    let lines: Vec<Line<'_>> = if alerts.is_empty() {
         vec![Line::from("none")]
     } else {
-        s.alerts[first..]
+        alerts[first..]
             .iter()
             .map(|a| {
                 Line::from(format!(
@@ -185,14 +195,13 @@ pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
             })
             .collect()
     };
-    let title = format!(" alerts ({}) ", s.alerts.len());
-    frame.render_widget(
-        Paragraph::new(lines).block(Block::bordered().title(title)),
-        alerts,
-    );
+    let title = format!(" alerts ({}) ", alerts.len());
+    Paragraph::new(lines).block(Block::bordered().title(title))
+}
 
-    let l = &s.link;
-    let text = if l.present {
+/// The link's counters and latency in one line.
+fn link_line(l: &LinkHealth) -> String {
+    if l.present {
         format!(
             "accepted {}  lost {} ({:.1} %)  auth failures {}  replays {}  malformed {}  latency {:.0} ms (mean {:.0} ms)",
             l.accepted,
@@ -209,11 +218,7 @@ pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
             "no link: the module runs in this process  latency {:.0} ms (mean {:.0} ms)",
             l.latency_ms, l.mean_latency_ms
         )
-    };
-    frame.render_widget(
-        Paragraph::new(text).block(Block::bordered().title(" link ")),
-        link,
-    );
+    }
 }
 
 /// The view on this process's terminal (alternate screen) while it lives.

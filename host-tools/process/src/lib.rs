@@ -192,19 +192,8 @@ pub fn process_streamed(
     mut on_frame: impl FnMut(FrameEvent<'_>) -> Result<(), Box<dyn std::error::Error + Send + Sync>>,
 ) -> Result<(ProcessOutput, Option<EdgeLog>), ProcessError> {
     let mode = options.mode;
-    let iq_order = options.open.iq_order;
     let mut bundle = Bundle::open(dir, options.open.clone())?;
-    let mut module = match (mode, &options.runner) {
-        (Mode::Metamoran, Runner::Qemu { firmware, key }) => {
-            if iq_order != dsp::capture::IqOrder::Iiqq {
-                return Err(ProcessError::IqOrder);
-            }
-            let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
-            q.configure(&bundle.scene.radar)?;
-            Some(q)
-        }
-        _ => None,
-    };
+    let mut module = start_module(&bundle, options)?;
     let camera = CameraModel::new(&bundle.scene.camera);
     let frame_options = FrameOptions {
         range_window: WindowKind::Hann,
@@ -222,33 +211,7 @@ pub fn process_streamed(
             Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
             Mode::Metamoran => {
                 bundle.read_radar_frame(f, &mut samples)?;
-                let moving = metamoran::MovingScene::new(&bundle.scene.radar, &samples)?;
-                if let Some(q) = module.as_mut() {
-                    let hints: Vec<_> =
-                        objects.iter().map(|o| metamoran::wire_hint(f, o)).collect();
-                    let wire: Vec<_> = hints.iter().flatten().cloned().collect();
-                    // One result (or None) per sent hint, in order.
-                    let mut results = q.frame(f, &wire)?.into_iter();
-                    objects
-                        .iter()
-                        .zip(&hints)
-                        .map(|(o, h)| match h {
-                            Some(h) => metamoran::merge(
-                                o,
-                                &ObjectHint::from_wire(h),
-                                results.next().flatten(),
-                                moving.as_ref(),
-                            ),
-                            None => ObjectEstimate::missed(o),
-                        })
-                        .collect()
-                } else {
-                    let mut scene = metamoran::StaticScene::new(&bundle.scene.radar, &samples)?;
-                    objects
-                        .iter()
-                        .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
-                        .collect()
-                }
+                metamoran_frame(&bundle, f, &samples, &objects, module.as_mut())?
             }
             Mode::Naive => {
                 bundle.read_radar_frame(f, &mut samples)?;
@@ -273,16 +236,73 @@ pub fn process_streamed(
         .map_err(ProcessError::Consumer)?;
         frames.push(result);
     }
-    let log = match module {
-        Some(q) => {
-            let log = q.stop()?;
-            let h = log.health;
-            if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
-                eprintln!("warning: the module counted errors: {h:?}");
-            }
-            Some(log)
-        }
-        None => None,
-    };
+    let log = module.map(stop_module).transpose()?;
     Ok((ProcessOutput { mode, frames }, log))
+}
+
+/// The module under QEMU, built, started and configured for `bundle`, if `options` run the
+/// Metamoran mode there.
+fn start_module(
+    bundle: &Bundle,
+    options: &ProcessOptions,
+) -> Result<Option<QemuEdge>, ProcessError> {
+    let (Mode::Metamoran, Runner::Qemu { firmware, key }) = (options.mode, &options.runner) else {
+        return Ok(None);
+    };
+    if options.open.iq_order != dsp::capture::IqOrder::Iiqq {
+        return Err(ProcessError::IqOrder);
+    }
+    let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
+    q.configure(&bundle.scene.radar)?;
+    Ok(Some(q))
+}
+
+/// One frame of the Metamoran mode: the static search on `module` (QEMU, over the link) or in
+/// this process, merged with the host's Doppler pass for movers.
+fn metamoran_frame(
+    bundle: &Bundle,
+    frame: u32,
+    samples: &[dsp::fixed::CQ15],
+    objects: &[CameraObject],
+    module: Option<&mut QemuEdge>,
+) -> Result<Vec<ObjectEstimate>, ProcessError> {
+    let radar = &bundle.scene.radar;
+    let moving = metamoran::MovingScene::new(radar, samples)?;
+    let Some(q) = module else {
+        let mut scene = metamoran::StaticScene::new(radar, samples)?;
+        return Ok(objects
+            .iter()
+            .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
+            .collect());
+    };
+    let hints: Vec<_> = objects
+        .iter()
+        .map(|o| metamoran::wire_hint(frame, o))
+        .collect();
+    let wire: Vec<_> = hints.iter().flatten().cloned().collect();
+    // One result (or None) per sent hint, in order.
+    let mut results = q.frame(frame, &wire)?.into_iter();
+    Ok(objects
+        .iter()
+        .zip(&hints)
+        .map(|(o, h)| match h {
+            Some(h) => metamoran::merge(
+                o,
+                &ObjectHint::from_wire(h),
+                results.next().flatten(),
+                moving.as_ref(),
+            ),
+            None => ObjectEstimate::missed(o),
+        })
+        .collect())
+}
+
+/// Stops the module and returns what it reported, warning on stderr if it counted errors.
+fn stop_module(q: QemuEdge) -> Result<EdgeLog, ProcessError> {
+    let log = q.stop()?;
+    let h = log.health;
+    if h.capture_errors + h.pipeline_errors + h.protocol_errors > 0 {
+        eprintln!("warning: the module counted errors: {h:?}");
+    }
+    Ok(log)
 }
