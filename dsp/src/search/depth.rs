@@ -315,8 +315,38 @@ pub fn coarse_to_fine(
         (libm::floorf(bins.1) as usize).min(m - 1),
     );
     // Points in the same direction share one beam (see `Contour::snapped`).
-    let (dirs, beam_of, spread) = directions(contour, &offsets);
-    let (rows, need) = beam_rows(&spread[..dirs.len()], (lo, hi), m);
+    let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
+    let mut beam_of = [0usize; MAX_CONTOUR];
+    // Per direction: the smallest and largest coarse offset of its points.
+    let mut spread = [(usize::MAX, 0usize); MAX_CONTOUR];
+    for ((slot, pt), &(o, _)) in beam_of.iter_mut().zip(contour.points()).zip(&offsets) {
+        let s = pt.sin_az;
+        *slot = match dirs.iter().position(|&d| d == s) {
+            Some(i) => i,
+            None => {
+                let _ = dirs.push(s);
+                dirs.len() - 1
+            }
+        };
+        if let Some(r) = spread.get_mut(*slot) {
+            *r = (r.0.min(o), r.1.max(o));
+        }
+    }
+    // Bins a direction's points read: coarse d + o for d in lo..=hi; fine f = d + rel with
+    // |rel − o| ≤ ½ and d within ±1 of a candidate, so ⌊f⌋ ∈ [lo + o − 2, hi + o + 1], each
+    // interpolation ± the half width around it.
+    let mut rows = [Row::default(); MAX_CONTOUR];
+    let mut need = 0;
+    for (row, &(lo_o, hi_o)) in rows.iter_mut().zip(&spread).take(dirs.len()) {
+        let first = (lo + lo_o).saturating_sub(INTERP_HALF_WIDTH + 2);
+        let end = (hi + hi_o + INTERP_HALF_WIDTH + 3).min(m);
+        *row = Row {
+            at: need,
+            first,
+            len: end.saturating_sub(first),
+        };
+        need += row.len;
+    }
     let Some(words) = profiles.get_mut(..2 * need) else {
         return Err(SearchError::Buffer {
             what: "profiles",
@@ -351,108 +381,6 @@ pub fn coarse_to_fine(
     macs += (k * win.len()) as u64;
     // 3. Best coarse candidates (local maxima, strongest first), then P on the fine grid
     //    around them.
-    let cands = candidates(win, lo);
-    // The fine points within ±1 bin of each candidate (strongest first), each listed once,
-    // aligned with brute_force's grid from bins.0.
-    let fine = FINE_STEPS_PER_BIN as f32;
-    let steps = fine_points(&cands, bins);
-    // P at each of them.
-    let power = fine_scores(
-        &prof,
-        &steps,
-        &beam_of[..k],
-        &offsets[..k],
-        bins,
-        geo,
-        &mut macs,
-    );
-    let mut best = (f32::NEG_INFINITY, 0.0f32);
-    for (&s, &p) in steps.iter().zip(&power) {
-        if p > best.0 {
-            best = (p, bins.0 + s as f32 / fine);
-        }
-    }
-    // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
-    let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
-    let centre = libm::roundf(best.1) as usize;
-    let runner_up = (lo..)
-        .zip(win.iter())
-        .filter(|&(d, _)| d + guard < centre || d > centre + guard)
-        .map(|(_, &v)| v)
-        .fold(0.0, f32::max);
-    let floor = median(win);
-    Ok(SearchResult {
-        depth_bins: best.1,
-        depth_m: best.1 * geo.bin_m,
-        peak: best.0,
-        floor,
-        runner_up,
-        macs,
-    })
-}
-
-/// Directions of the contour's points: the distinct `sin θ` (points in the same direction
-/// share one beam), each point's direction index, and per direction the smallest and largest
-/// coarse offset of its points.
-#[inline(always)]
-fn directions(
-    contour: &Contour,
-    offsets: &[(usize, f32); MAX_CONTOUR],
-) -> (
-    heapless::Vec<f32, MAX_CONTOUR>,
-    [usize; MAX_CONTOUR],
-    [(usize, usize); MAX_CONTOUR],
-) {
-    let mut dirs: heapless::Vec<f32, MAX_CONTOUR> = heapless::Vec::new();
-    let mut beam_of = [0usize; MAX_CONTOUR];
-    // Per direction: the smallest and largest coarse offset of its points.
-    let mut spread = [(usize::MAX, 0usize); MAX_CONTOUR];
-    for ((slot, pt), &(o, _)) in beam_of.iter_mut().zip(contour.points()).zip(offsets) {
-        let s = pt.sin_az;
-        *slot = match dirs.iter().position(|&d| d == s) {
-            Some(i) => i,
-            None => {
-                let _ = dirs.push(s);
-                dirs.len() - 1
-            }
-        };
-        if let Some(r) = spread.get_mut(*slot) {
-            *r = (r.0.min(o), r.1.max(o));
-        }
-    }
-    (dirs, beam_of, spread)
-}
-
-/// Where each direction's beams go in the scratch and which bins they cover (from each
-/// direction's `spread` of coarse offsets and the searched bins `lo..=hi`); and the beams in all.
-#[inline(always)]
-fn beam_rows(
-    spread: &[(usize, usize)],
-    (lo, hi): (usize, usize),
-    m: usize,
-) -> ([Row; MAX_CONTOUR], usize) {
-    // Bins a direction's points read: coarse d + o for d in lo..=hi; fine f = d + rel with
-    // |rel − o| ≤ ½ and d within ±1 of a candidate, so ⌊f⌋ ∈ [lo + o − 2, hi + o + 1], each
-    // interpolation ± the half width around it.
-    let mut rows = [Row::default(); MAX_CONTOUR];
-    let mut need = 0;
-    for (row, &(lo_o, hi_o)) in rows.iter_mut().zip(spread) {
-        let first = (lo + lo_o).saturating_sub(INTERP_HALF_WIDTH + 2);
-        let end = (hi + hi_o + INTERP_HALF_WIDTH + 3).min(m);
-        *row = Row {
-            at: need,
-            first,
-            len: end.saturating_sub(first),
-        };
-        need += row.len;
-    }
-    (rows, need)
-}
-
-/// The [`CANDIDATES`] strongest local maxima of the coarse scores `win` (score of depth bin
-/// `lo + i` at `i`), strongest first, as (bin, score).
-#[inline(always)]
-fn candidates(win: &[f32], lo: usize) -> [Option<(usize, f32)>; CANDIDATES] {
     let mut cands: [Option<(usize, f32)>; CANDIDATES] = [None; CANDIDATES];
     for (i, &v) in win.iter().enumerate() {
         let left = i.checked_sub(1).and_then(|j| win.get(j));
@@ -468,16 +396,8 @@ fn candidates(win: &[f32], lo: usize) -> [Option<(usize, f32)>; CANDIDATES] {
             }
         }
     }
-    cands
-}
-
-/// The fine points within ±1 bin of each candidate (strongest first), each listed once, as
-/// steps of `1 / FINE_STEPS_PER_BIN` bin from `bins.0` (brute force's grid).
-#[inline(always)]
-fn fine_points(
-    cands: &[Option<(usize, f32)>; CANDIDATES],
-    bins: (f32, f32),
-) -> heapless::Vec<usize, FINE_POINTS> {
+    // The fine points within ±1 bin of each candidate (strongest first), each listed once,
+    // aligned with brute_force's grid from bins.0.
     let fine = FINE_STEPS_PER_BIN as f32;
     let mut steps: heapless::Vec<usize, FINE_POINTS> = heapless::Vec::new();
     for &(cand, _) in cands.iter().flatten() {
@@ -492,29 +412,13 @@ fn fine_points(
             }
         }
     }
-    steps
-}
-
-/// `P` at each fine point of `steps` from the beams in `prof` (each contour point's beam and
-/// fractional offset in `beam_of` and `offsets`), adding the MACs spent to `macs`. The weights
-/// of a point depend only on its fractional bin, which repeats every `FINE_STEPS_PER_BIN`
-/// steps: one row of weights serves every step of a phase.
-#[inline(always)]
-fn fine_scores(
-    prof: &Profiles<'_>,
-    steps: &[usize],
-    beam_of: &[usize],
-    offsets: &[(usize, f32)],
-    bins: (f32, f32),
-    geo: &Geometry<'_>,
-    macs: &mut u64,
-) -> [f32; FINE_POINTS] {
-    let (m, fine) = (geo.fft_len, FINE_STEPS_PER_BIN as f32);
+    // P at each of them. The weights of a point depend only on its fractional bin, which
+    // repeats every FINE_STEPS_PER_BIN steps: one row of weights serves every step of a phase.
     let mut power = [0.0f32; FINE_POINTS];
     let interp = Interpolator::new(geo.samples, m);
     let mut weights = [C32::new(0.0, 0.0); INTERP_WIDTH];
     for phase in 0..FINE_STEPS_PER_BIN {
-        for (&beam, &(_, rel)) in beam_of.iter().zip(offsets) {
+        for (&beam, &(_, rel)) in beam_of.iter().zip(&offsets).take(k) {
             // Offset of the first weight's bin from the point (bins), once computed.
             let mut row_x0 = None;
             for (&s, p) in steps.iter().zip(power.iter_mut()) {
@@ -538,12 +442,34 @@ fn fine_scores(
                 for (&b, &w) in prof.from(beam, b0).iter().zip(&weights[..width]) {
                     z += b * w;
                 }
-                *macs += width as u64;
+                macs += width as u64;
                 *p += z.norm_sqr();
             }
         }
     }
-    power
+    let mut best = (f32::NEG_INFINITY, 0.0f32);
+    for (&s, &p) in steps.iter().zip(&power) {
+        if p > best.0 {
+            best = (p, bins.0 + s as f32 / fine);
+        }
+    }
+    // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
+    let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
+    let centre = libm::roundf(best.1) as usize;
+    let runner_up = (lo..)
+        .zip(win.iter())
+        .filter(|&(d, _)| d + guard < centre || d > centre + guard)
+        .map(|(_, &v)| v)
+        .fold(0.0, f32::max);
+    let floor = median(win);
+    Ok(SearchResult {
+        depth_bins: best.1,
+        depth_m: best.1 * geo.bin_m,
+        peak: best.0,
+        floor,
+        runner_up,
+        macs,
+    })
 }
 
 #[cfg(test)]
