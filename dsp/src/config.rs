@@ -4,7 +4,6 @@
 //! convert identically. Sizes are bounded by [`MAX_TX`], [`MAX_RX`] and [`MAX_SLOTS`] so the
 //! configuration fits in a fixed-size value (a cascade board has 12 TX and 16 RX).
 
-use crate::units::{AzimuthBin, DopplerBin, Meters, MetersPerSecond, Radians, RangeBin};
 use core::fmt;
 use heapless::Vec;
 
@@ -195,26 +194,23 @@ impl RadarConfig {
     }
 
     /// Largest unambiguous range R_max = fs·c / (2·S), m.
-    pub fn max_range(&self) -> Meters {
-        Meters((self.sample_rate_hz * SPEED_OF_LIGHT / (2.0 * self.slope_hz_per_s)) as f32)
+    pub fn max_range(&self) -> f32 {
+        (self.sample_rate_hz * SPEED_OF_LIGHT / (2.0 * self.slope_hz_per_s)) as f32
     }
 
     /// Metres per bin of a range FFT of `fft_len` points: c·fs / (2·S·fft_len).
-    pub fn range_bin_size(&self, fft_len: usize) -> Meters {
-        Meters(
-            (SPEED_OF_LIGHT * self.sample_rate_hz / (2.0 * self.slope_hz_per_s * fft_len as f64))
-                as f32,
-        )
+    pub fn range_bin_size(&self, fft_len: usize) -> f32 {
+        (SPEED_OF_LIGHT * self.sample_rate_hz / (2.0 * self.slope_hz_per_s * fft_len as f64)) as f32
     }
 
-    /// Range of a (fractional) bin of a range FFT of `fft_len` points.
-    pub fn bin_to_range(&self, bin: RangeBin, fft_len: usize) -> Meters {
-        Meters(bin.0 * self.range_bin_size(fft_len).0)
+    /// Range (m) of a (fractional) bin of a range FFT of `fft_len` points.
+    pub fn bin_to_range(&self, bin: f32, fft_len: usize) -> f32 {
+        bin * self.range_bin_size(fft_len)
     }
 
-    /// The (fractional) range bin of `range` in a range FFT of `fft_len` points.
-    pub fn range_to_bin(&self, range: Meters, fft_len: usize) -> RangeBin {
-        RangeBin(range.0 / self.range_bin_size(fft_len).0)
+    /// The (fractional) range bin of `range_m` in a range FFT of `fft_len` points.
+    pub fn range_to_bin(&self, range_m: f32, fft_len: usize) -> f32 {
+        range_m / self.range_bin_size(fft_len)
     }
 
     /// Time between two chirps of the same slot (one loop), s.
@@ -222,29 +218,29 @@ impl RadarConfig {
         self.chirp_period_s * self.slots() as f64
     }
 
-    /// Radial velocity of a signed Doppler bin of a `fft_len`-point Doppler FFT:
-    /// v = bin · λ / (2 · T_loop · fft_len). Positive bins are targets moving away.
-    pub fn doppler_to_velocity(&self, bin: DopplerBin, fft_len: usize) -> MetersPerSecond {
+    /// Radial velocity (m/s) of a signed, fractional Doppler bin of a `fft_len`-point Doppler
+    /// FFT: v = bin · λ / (2 · T_loop · fft_len). Positive bins are targets moving away.
+    pub fn doppler_to_velocity(&self, bin: f32, fft_len: usize) -> f32 {
         let res = self.wavelength_m() / (2.0 * self.loop_period_s() * fft_len as f64);
-        MetersPerSecond((bin.0 as f64 * res) as f32)
+        (bin as f64 * res) as f32
     }
 
     /// Largest unambiguous speed λ / (4·T_loop), m/s.
-    pub fn max_velocity(&self) -> MetersPerSecond {
-        MetersPerSecond((self.wavelength_m() / (4.0 * self.loop_period_s())) as f32)
+    pub fn max_velocity(&self) -> f32 {
+        (self.wavelength_m() / (4.0 * self.loop_period_s())) as f32
     }
 }
 
-/// Azimuth of a signed bin of an `fft_len`-point FFT over a half-wavelength array:
-/// sin θ = 2·bin / fft_len. `None` outside the visible region (|sin θ| > 1).
-pub fn azimuth_bin_to_angle(bin: AzimuthBin, fft_len: usize) -> Option<Radians> {
-    let s = 2.0 * bin.0 / fft_len as f32;
-    (s.abs() <= 1.0).then(|| Radians(libm::asinf(s)))
+/// Azimuth (rad) of a signed, fractional bin of an `fft_len`-point FFT over a half-wavelength
+/// array: sin θ = 2·bin / fft_len. `None` outside the visible region (|sin θ| > 1).
+pub fn azimuth_bin_to_angle(bin: f32, fft_len: usize) -> Option<f32> {
+    let s = 2.0 * bin / fft_len as f32;
+    (s.abs() <= 1.0).then(|| libm::asinf(s))
 }
 
-/// The (fractional) signed azimuth bin of angle θ: bin = sin θ · fft_len / 2.
-pub fn angle_to_azimuth_bin(angle: Radians, fft_len: usize) -> AzimuthBin {
-    AzimuthBin(libm::sinf(angle.0) * fft_len as f32 / 2.0)
+/// The (fractional) signed azimuth bin of angle `angle_rad`: bin = sin θ · fft_len / 2.
+pub fn angle_to_azimuth_bin(angle_rad: f32, fft_len: usize) -> f32 {
+    libm::sinf(angle_rad) * fft_len as f32 / 2.0
 }
 
 #[cfg(test)]
@@ -273,16 +269,16 @@ pub(crate) mod tests {
         let c = example();
         c.validate().unwrap();
         // R_max = fs c / 2S
-        assert!((c.max_range().0 as f64 - 10e6 * SPEED_OF_LIGHT / (2.0 * 29.982e12)).abs() < 1e-4);
-        assert!((c.range_bin_size(256).0 as f64 - c.max_range().0 as f64 / 256.0).abs() < 1e-6);
+        assert!((c.max_range() as f64 - 10e6 * SPEED_OF_LIGHT / (2.0 * 29.982e12)).abs() < 1e-4);
+        assert!((c.range_bin_size(256) as f64 - c.max_range() as f64 / 256.0).abs() < 1e-6);
         assert_eq!(c.channels(), 8);
         assert_eq!(c.channel_position(5), Some(5));
         assert_eq!(c.channel_position(8), None);
-        let v = c.doppler_to_velocity(DopplerBin(1.0), 16).0 as f64;
+        let v = c.doppler_to_velocity(1.0, 16) as f64;
         assert!((v - c.wavelength_m() / (2.0 * 120e-6 * 16.0)).abs() < 1e-6);
-        let a = azimuth_bin_to_angle(AzimuthBin(16.0), 64).unwrap();
-        assert!((a.0 - core::f32::consts::FRAC_PI_6).abs() < 1e-6);
-        assert!(azimuth_bin_to_angle(AzimuthBin(33.0), 64).is_none());
+        let a = azimuth_bin_to_angle(16.0, 64).unwrap();
+        assert!((a - core::f32::consts::FRAC_PI_6).abs() < 1e-6);
+        assert!(azimuth_bin_to_angle(33.0, 64).is_none());
     }
 
     #[test]

@@ -301,7 +301,7 @@ impl Edge {
             rx: config.rx_count(),
             slots: config.slots(),
             chirps: config.chirps_per_frame(),
-            bin_m: config.range_bin_size(config.range_fft_len()).0,
+            bin_m: config.range_bin_size(config.range_fft_len()),
         })
     }
 

@@ -1,35 +1,10 @@
-//! Physical units and bin indices, so that a range is never mistaken for a bin.
-
-/// A distance in metres.
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct Meters(pub f32);
-
-/// A radial velocity in metres per second, positive away from the radar.
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct MetersPerSecond(pub f32);
-
-/// An angle in radians; azimuth is positive to the right (+x).
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct Radians(pub f32);
-
-impl Radians {
-    /// The angle in degrees.
-    pub fn to_degrees(self) -> f32 {
-        self.0.to_degrees()
-    }
-}
-
-/// A range FFT bin, possibly fractional after peak interpolation.
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct RangeBin(pub f32);
-
-/// A signed Doppler bin (after `fftshift`: `-N/2..N/2`), possibly fractional.
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct DopplerBin(pub f32);
-
-/// A signed azimuth FFT bin (after `fftshift`: `-N/2..N/2`), possibly fractional.
-#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
-pub struct AzimuthBin(pub f32);
+//! Units: every physical quantity in the public API is a plain float whose name ends in its unit
+//! (`depth_m`, `bin_m`, `radial_velocity_mps`, `yaw_rad`, `slope_hz_per_s`, `chirp_period_s`;
+//! `_bins` for FFT bins), as the wire messages and the JSON documents name them; fixed-point
+//! formats are types (`Q15`, `Q31`, `CQ15`). One style, so a reader never has to ask whether a
+//! number is wrapped.
+//!
+//! This module keeps the one index map every stage shares.
 
 /// Maps FFT index `k` of an `n`-point FFT to its signed bin in `-n/2..n/2`.
 pub const fn signed_bin(k: usize, n: usize) -> i32 {

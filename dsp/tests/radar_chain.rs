@@ -8,7 +8,7 @@ use dsp::doppler::{DopplerOptions, magnitude, range_doppler_map};
 use dsp::fft::Exponent;
 use dsp::fixed::CQ15;
 use dsp::range::{RangeCube, RangeProcessor};
-use dsp::units::{AzimuthBin, DopplerBin, signed_bin};
+use dsp::units::signed_bin;
 use heapless::Vec as HVec;
 use std::f64::consts::PI;
 
@@ -112,8 +112,8 @@ fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
     let c = config();
     let (nr, nd) = (c.range_fft_len(), c.doppler_fft_len());
     // On-grid: range bin 40, Doppler bin −3 (approaching), broadside; a strong static target at bin 90.
-    let range = c.bin_to_range(dsp::units::RangeBin(40.0), nr).0 as f64;
-    let v = c.doppler_to_velocity(DopplerBin(-3.0), nd).0 as f64;
+    let range = c.bin_to_range(40.0, nr) as f64;
+    let v = c.doppler_to_velocity(-3.0, nd) as f64;
     let frame = synthesize(
         &c,
         &[
@@ -124,7 +124,7 @@ fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
                 amplitude: 0.02,
             },
             Reflector {
-                range: c.bin_to_range(dsp::units::RangeBin(90.0), nr).0 as f64,
+                range: c.bin_to_range(90.0, nr) as f64,
                 sin_az: 0.3,
                 velocity: 0.0,
                 amplitude: 0.2,
@@ -161,7 +161,7 @@ fn azimuth_fft_and_beamformer_find_the_arrival_angle() {
     let array = VirtualArray::new(&c).unwrap();
     // sin θ = 2·5/64: exactly bin 5 of a 64-point azimuth FFT; range bin 60.
     let sin_az = 2.0 * 5.0 / 64.0;
-    let range = c.bin_to_range(dsp::units::RangeBin(60.0), nr).0 as f64;
+    let range = c.bin_to_range(60.0, nr) as f64;
     let frame = synthesize(
         &c,
         &[Reflector {
@@ -186,8 +186,8 @@ fn azimuth_fft_and_beamformer_find_the_arrival_angle() {
     let mags: Vec<f32> = spec.iter().map(|&z| magnitude(z, Exponent(0))).collect();
     let k = argmax(&mags);
     assert_eq!(signed_bin(k, 64), 5);
-    let angle = azimuth_bin_to_angle(AzimuthBin(5.0), 64).unwrap();
-    assert!((angle.0 as f64 - sin_az.asin()).abs() < 1e-6);
+    let angle = azimuth_bin_to_angle(5.0, 64).unwrap();
+    assert!((angle as f64 - sin_az.asin()).abs() < 1e-6);
     // The beamformer over the same elements peaks at the same direction and falls off away from it.
     let mut elements = vec![CQ15::default(); array.span()];
     array.gather(&values, &mut elements).unwrap();

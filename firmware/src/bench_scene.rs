@@ -54,7 +54,7 @@ fn shape(u: f32) -> (f32, f32) {
 pub fn chirp(config: &RadarConfig, chirp: usize, rx: usize, out: &mut [CQ15]) {
     let channel = (chirp % config.slots()) * config.rx_count() + rx;
     let p = config.channel_position(channel).unwrap_or(0) as u32;
-    let bin_m = config.range_bin_size(N).0 as f64;
+    let bin_m = config.range_bin_size(N) as f64;
     let mut acc = [(0i32, 0i32); N];
     let mut add = |range: f32, sin_az: f32, amplitude: i32, seed: u32| {
         let inc = Phase::from_turns(range as f64 / bin_m / N as f64).0;

@@ -18,7 +18,7 @@ use crate::doppler::{DopplerError, DopplerOptions, doppler_column};
 use crate::fft::Complex32;
 use crate::fixed::CQ15;
 use crate::range::RangeCube;
-use crate::units::{DopplerBin, RangeBin};
+
 use core::fmt;
 use libm::{cosf, log10f, sinf};
 
@@ -162,7 +162,7 @@ pub fn frame_points(
             } else {
                 0.0
             };
-            let range = config.bin_to_range(RangeBin(b as f32 + range_off), nr).0;
+            let range = config.bin_to_range(b as f32 + range_off, nr);
             if range < options.min_range_m {
                 return;
             }
@@ -200,7 +200,7 @@ pub fn frame_points(
                     } else {
                         k as f32
                     };
-                    let velocity = config.doppler_to_velocity(DopplerBin(signed + off), nd).0;
+                    let velocity = config.doppler_to_velocity(signed + off, nd);
                     emit(RadarPoint::new(range, velocity, dir));
                 },
             );

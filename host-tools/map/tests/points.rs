@@ -60,7 +60,7 @@ fn point_reflectors_come_back_where_they_are() {
             &metamoran_map::cloud::default_options(),
         )
         .unwrap();
-    let bin = config.range_bin_size(config.range_fft_len()).0 as f64;
+    let bin = config.range_bin_size(config.range_fft_len()) as f64;
     for &(r, az, el, v) in &targets {
         // The strongest point within two range bins.
         let p = points

@@ -10,7 +10,7 @@ use dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map}
 use dsp::fft::{self, Exponent};
 use dsp::fixed::{CQ15, Q15};
 use dsp::range::{RangeCube, RangeProcessor};
-use dsp::units::{AzimuthBin, Radians, signed_bin};
+use dsp::units::signed_bin;
 use dsp::window::{self, WindowKind};
 
 /// Shortest axis that gets a window; shorter ones are processed rectangular.
@@ -287,7 +287,7 @@ impl FrameProcessor {
         bin: usize,
         doppler: usize,
         remove_static: bool,
-    ) -> Result<Option<Radians>, ProcessError> {
+    ) -> Result<Option<f32>, ProcessError> {
         let mag = self.azimuth_profile(bin, doppler, remove_static)?;
         let na = mag.len();
         let k = (0..na)
@@ -296,6 +296,6 @@ impl FrameProcessor {
         let db = |i: usize| 20.0 * (mag[i % na].max(1e-30)).log10();
         let offset = quadratic_offset(db(k + na - 1), db(k), db(k + 1));
         let bin = signed_bin(k, na) as f32 + offset;
-        Ok(azimuth_bin_to_angle(AzimuthBin(bin), na))
+        Ok(azimuth_bin_to_angle(bin, na))
     }
 }

@@ -7,7 +7,7 @@ use crate::ProcessError;
 use crate::frame::FrameProcessor;
 use dsp::config::azimuth_bin_to_angle;
 use dsp::detect::quadratic_offset;
-use dsp::units::{AzimuthBin, RangeBin, signed_bin};
+use dsp::units::signed_bin;
 
 /// The range–azimuth map of the static scene: `|azimuth spectrum|` per range bin.
 pub struct RangeAzimuth {
@@ -36,8 +36,7 @@ impl RangeAzimuth {
     /// Azimuth indices whose direction lies in `[lo, hi]` (radians); the nearest one if none.
     pub fn indices_in(&self, lo: f64, hi: f64) -> Vec<usize> {
         let angle = |k: usize| {
-            azimuth_bin_to_angle(AzimuthBin(signed_bin(k, self.az_len) as f32), self.az_len)
-                .map(|a| a.0 as f64)
+            azimuth_bin_to_angle(signed_bin(k, self.az_len) as f32, self.az_len).map(|a| a as f64)
         };
         let inside: Vec<usize> = (0..self.az_len)
             .filter(|&k| angle(k).is_some_and(|a| a >= lo && a <= hi))
@@ -84,8 +83,8 @@ pub fn estimate(ra: &RangeAzimuth, proc: &FrameProcessor, obj: &CameraObject) ->
         0.0
     };
     let c = proc.config();
-    let depth = c.bin_to_range(RangeBin(b as f32 + off), ra.bins).0 as f64;
-    let azimuth = azimuth_bin_to_angle(AzimuthBin(signed_bin(k, ra.az_len) as f32), ra.az_len)
-        .map(|a| a.0 as f64);
+    let depth = c.bin_to_range(b as f32 + off, ra.bins) as f64;
+    let azimuth =
+        azimuth_bin_to_angle(signed_bin(k, ra.az_len) as f32, ra.az_len).map(|a| a as f64);
     ObjectEstimate::found(obj, depth, azimuth, obj.anchored(depth))
 }

@@ -4,7 +4,7 @@
 use crate::frame::{FrameOptions, FrameProcessor};
 use dsp::config::RadarConfig;
 use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind, is_local_max, quadratic_offset};
-use dsp::units::{DopplerBin, RangeBin, signed_bin};
+use dsp::units::signed_bin;
 use dsp::window::WindowKind;
 use metamoran_bundle::RadarFile;
 use metamoran_bundle::error::InputError;
@@ -94,10 +94,10 @@ fn config_summary(c: &RadarConfig, elements: usize) -> ConfigSummary {
         frames: c.frames,
         range_fft_len: nr,
         doppler_fft_len: nd,
-        range_resolution_m: c.range_bin_size(nr).0,
-        max_range_m: c.max_range().0,
-        velocity_resolution_mps: c.doppler_to_velocity(DopplerBin(1.0), nd).0,
-        max_velocity_mps: c.max_velocity().0,
+        range_resolution_m: c.range_bin_size(nr),
+        max_range_m: c.max_range(),
+        velocity_resolution_mps: c.doppler_to_velocity(1.0, nd),
+        max_velocity_mps: c.max_velocity(),
         virtual_channels: c.channels(),
         virtual_elements: elements,
     }
@@ -140,9 +140,9 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             let az = proc.azimuth_at(k, 0, false).map_err(to_err)?;
             range_peaks.push(RangePeak {
                 bin: k,
-                range_m: config.bin_to_range(RangeBin(k as f32 + off), nr).0,
+                range_m: config.bin_to_range(k as f32 + off, nr),
                 level_dbfs: db(profile[k] / config.adc_samples as f32),
-                azimuth_deg: az.map(dsp::units::Radians::to_degrees),
+                azimuth_deg: az.map(f32::to_degrees),
             });
         }
         let map = &spectra.range_doppler;
@@ -190,11 +190,9 @@ pub fn summarize(file: &mut RadarFile) -> Result<Summary, InputError> {
             moving_targets.push(MovingTarget {
                 range_bin: r,
                 doppler_bin,
-                range_m: config.bin_to_range(RangeBin(r as f32 + r_off), nr).0,
-                velocity_mps: config
-                    .doppler_to_velocity(DopplerBin(doppler_bin as f32 + d_off), nd)
-                    .0,
-                azimuth_deg: az.map(dsp::units::Radians::to_degrees),
+                range_m: config.bin_to_range(r as f32 + r_off, nr),
+                velocity_mps: config.doppler_to_velocity(doppler_bin as f32 + d_off, nd),
+                azimuth_deg: az.map(f32::to_degrees),
                 snr_db: db(h.value / h.threshold) + db(axis.scale),
             });
         }

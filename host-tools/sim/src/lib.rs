@@ -126,7 +126,7 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
     config.frames = u32::from(layout.frames);
     config.frame_period_s = layout.frame_period_s;
-    let extra = ground(&mut rng, config.max_range().0 as f64);
+    let extra = ground(&mut rng, config.max_range() as f64);
     let camera = camera_config();
     let model = CameraModel::new(&camera);
     let mut adc = Vec::new();

@@ -70,21 +70,13 @@ mod tests {
         let c = config(RadarKind::Cascade, max_range_for(10.0), 2);
         c.validate().unwrap();
         assert_eq!(dsp::array::VirtualArray::new(&c).unwrap().elements(), 86);
-        assert!((c.range_bin_size(512).0 - 0.042).abs() < 0.001);
+        assert!((c.range_bin_size(512) - 0.042).abs() < 0.001);
         assert!(
-            (config(RadarKind::Cascade, max_range_for(30.0), 2)
-                .range_bin_size(512)
-                .0
-                - 0.116)
-                .abs()
+            (config(RadarKind::Cascade, max_range_for(30.0), 2).range_bin_size(512) - 0.116).abs()
                 < 0.001
         );
         assert!(
-            (config(RadarKind::Cascade, max_range_for(70.0), 2)
-                .range_bin_size(512)
-                .0
-                - 0.21)
-                .abs()
+            (config(RadarKind::Cascade, max_range_for(70.0), 2).range_bin_size(512) - 0.21).abs()
                 < 0.001
         );
         let x = config(RadarKind::Xwr18xx, 59.4, 16);

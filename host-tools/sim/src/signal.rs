@@ -59,7 +59,7 @@ pub fn echoes(
     config: &RadarConfig,
     elevation_beam_deg: f64,
 ) -> Vec<Echo> {
-    let r_max = config.max_range().0 as f64;
+    let r_max = config.max_range() as f64;
     let sigma_el = elevation_beam_deg.to_radians();
     let origin = nalgebra::Vector3::zeros();
     let mut out = Vec::new();
