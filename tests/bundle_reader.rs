@@ -1,8 +1,8 @@
 //! The scene-bundle reader against bundle.md: a valid bundle reads back exactly, and each kind
 //! of violation is an error that names the file and the field.
 
-use dsp::capture::IqOrder;
 use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_dsp::capture::IqOrder;
 use std::path::Path;
 
 const SCENE: &str = r#"format = "metamoran-bundle/1"

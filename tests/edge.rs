@@ -1,7 +1,7 @@
 //! `process --edge qemu`: the firmware under QEMU, fed over the authenticated telemetry link,
 //! must give exactly the JSON of the in-process pipeline, frame after frame.
 
-use dsp::wire::{DEV_KEY, Key};
+use metamoran_dsp::wire::{DEV_KEY, Key};
 use metamoran_e2e::{firmware_dir, oracles_required, qemu_available};
 use metamoran_process::{Mode, ProcessOptions, Runner, process, process_streamed};
 use metamoran_sim::radar::RadarKind;

@@ -1,9 +1,9 @@
 //! The Metamoran method on fresh simulated scenes (seeds used nowhere else): the production
 //! search agrees with the brute-force reference, and the method meets the accuracy goals.
 
-use dsp::search::depth::FINE_STEPS_PER_BIN;
 use metamoran_bundle::geometry::CameraModel;
 use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_dsp::search::depth::FINE_STEPS_PER_BIN;
 use metamoran_process::Mode;
 use metamoran_process::camera_points::objects_of_interest;
 use metamoran_process::eval;

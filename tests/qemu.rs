@@ -40,9 +40,9 @@ fn firmware_self_test_matches_host_bit_for_bit() {
 /// frame must stay within the 24 M-instruction budget.
 #[test]
 fn pipeline_on_the_m7_matches_host_and_truth() {
-    use dsp::fixed::CQ15;
-    use dsp::pipeline::Edge;
     use firmware::bench_scene::{self, N};
+    use metamoran_dsp::fixed::CQ15;
+    use metamoran_dsp::pipeline::Edge;
     if !qemu_available() {
         assert!(!oracles_required(), "qemu-system-arm is required");
         eprintln!("SKIPPED: qemu-system-arm not installed");

@@ -1,10 +1,10 @@
 //! Real TI captures (shared/data/real): our reader and range/Doppler processing must reproduce
 //! the reference figures that were computed independently with numpy (expected.json).
 
-use dsp::capture::IqOrder;
-use dsp::units::signed_bin;
-use dsp::window::WindowKind;
 use metamoran_bundle::capture::open_bare;
+use metamoran_dsp::capture::IqOrder;
+use metamoran_dsp::units::signed_bin;
+use metamoran_dsp::window::WindowKind;
 use metamoran_e2e::{real_capture_config, real_capture_dir, top_k};
 use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 use serde_json::Value;
@@ -141,13 +141,16 @@ fn openradar_frame_chirp0_only() {
         ("no_window", WindowKind::Rectangular),
         ("hann", WindowKind::Hann),
     ] {
-        let mut coeffs = vec![dsp::fixed::Q15::ZERO; 128];
-        dsp::window::fill(window, &mut coeffs);
+        let mut coeffs = vec![metamoran_dsp::fixed::Q15::ZERO; 128];
+        metamoran_dsp::window::fill(window, &mut coeffs);
         let w = (window != WindowKind::Rectangular).then_some(coeffs.as_slice());
-        let proc = dsp::range::RangeProcessor::new(128, 128, w).unwrap();
-        let mut out = vec![dsp::fixed::CQ15::default(); 128];
+        let proc = metamoran_dsp::range::RangeProcessor::new(128, 128, w).unwrap();
+        let mut out = vec![metamoran_dsp::fixed::CQ15::default(); 128];
         let e = proc.process(&samples[..128], &mut out).unwrap();
-        let mag: Vec<f32> = out.iter().map(|&z| dsp::doppler::magnitude(z, e)).collect();
+        let mag: Vec<f32> = out
+            .iter()
+            .map(|&z| metamoran_dsp::doppler::magnitude(z, e))
+            .collect();
         assert_eq!(
             top_k(&mag, 3),
             bins(&exp["range_fft_chirp0_only"][key]["top3_bins"]),

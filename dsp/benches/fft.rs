@@ -2,8 +2,8 @@
 //! (f32) on the same input. `cargo bench -p metamoran-dsp`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
-use dsp::fixed::{CQ15, CQ31};
+use metamoran_dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
+use metamoran_dsp::fixed::{CQ15, CQ31};
 use rustfft::FftPlanner;
 use std::hint::black_box;
 

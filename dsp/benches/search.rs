@@ -5,14 +5,14 @@
 //! `cargo bench -p metamoran-dsp --bench search`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
-use dsp::fft::C32;
-use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, FrameScene, ObjectHint};
-use dsp::range::StaticSum;
-use dsp::search::Contour;
-use dsp::search::depth::brute_force;
-use dsp::window::coefficient_f64;
+use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT};
+use metamoran_dsp::fft::C32;
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::pipeline::{Edge, FrameScene, ObjectHint};
+use metamoran_dsp::range::StaticSum;
+use metamoran_dsp::search::Contour;
+use metamoran_dsp::search::depth::brute_force;
+use metamoran_dsp::window::coefficient_f64;
 use std::f64::consts::PI;
 use std::hint::black_box;
 

@@ -267,8 +267,8 @@ impl Edge {
     /// A 2 TX × 4 RX board: 8 virtual elements, 256 samples per chirp; the frame arena holds
     /// one range spectrum per element.
     /// ```
-    /// use dsp::config::RadarConfig;
-    /// use dsp::pipeline::Edge;
+    /// use metamoran_dsp::config::RadarConfig;
+    /// use metamoran_dsp::pipeline::Edge;
     ///
     /// let config = RadarConfig {
     ///     start_frequency_hz: 77e9,
@@ -286,7 +286,7 @@ impl Edge {
     /// let edge = Edge::new(&config)?;
     /// assert_eq!((edge.samples(), edge.rows_per_frame()), (256, 2 * 4 * 16));
     /// assert!(edge.arena_words() >= 8 * 256);
-    /// # Ok::<(), dsp::pipeline::PipelineError>(())
+    /// # Ok::<(), metamoran_dsp::pipeline::PipelineError>(())
     /// ```
     pub fn new(config: &RadarConfig) -> Result<Self, PipelineError> {
         let n = config.adc_samples as usize;

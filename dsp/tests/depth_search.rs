@@ -3,15 +3,15 @@
 //! search must pick the reference's depth to a fine step, find the true depth, and spend far
 //! fewer multiply-accumulates; the beam-domain cancellation must equal the time-domain one.
 
-use dsp::clutter::sic::Residual;
-use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
-use dsp::fft::C32;
-use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, ObjectHint};
-use dsp::range::StaticSum;
-use dsp::search::Contour;
-use dsp::search::depth::{FINE_STEPS_PER_BIN, brute_force};
-use dsp::window::coefficient_f64;
+use metamoran_dsp::clutter::sic::Residual;
+use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT};
+use metamoran_dsp::fft::C32;
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::pipeline::{Edge, ObjectHint};
+use metamoran_dsp::range::StaticSum;
+use metamoran_dsp::search::Contour;
+use metamoran_dsp::search::depth::{FINE_STEPS_PER_BIN, brute_force};
+use metamoran_dsp::window::coefficient_f64;
 use std::f64::consts::PI;
 
 const N: usize = 64;
@@ -54,7 +54,7 @@ struct Run {
     edge: Edge,
     arena: Vec<u32>,
     exponent: i32,
-    peaks: heapless::Vec<dsp::clutter::peaks::Peak, 64>,
+    peaks: heapless::Vec<metamoran_dsp::clutter::peaks::Peak, 64>,
     /// Windowed f32 element sums for the reference.
     samples: Vec<C32>,
     window: Vec<f32>,
@@ -121,9 +121,13 @@ fn pipeline_cancels_clutter_and_matches_brute_force() {
         prior_m: 5.0, // the search starts at 2 m, before the clutter
         contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, (rr + 11.0) as f32))),
     };
-    let mut scene =
-        dsp::pipeline::FrameScene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone())
-            .unwrap();
+    let mut scene = metamoran_dsp::pipeline::FrameScene::resume(
+        &r.edge,
+        &mut r.arena,
+        r.exponent,
+        r.peaks.clone(),
+    )
+    .unwrap();
     let reflectors = r.edge.cancel(&scene, &hint);
     assert!(
         reflectors
@@ -172,9 +176,13 @@ fn beam_domain_cancellation_equals_time_domain_subtraction() {
         prior_m: 0.0,
         contour: Contour::new([(-0.1f32, 0.0f32)]),
     };
-    let scene =
-        dsp::pipeline::FrameScene::resume(&r.edge, &mut r.arena, r.exponent, r.peaks.clone())
-            .unwrap();
+    let scene = metamoran_dsp::pipeline::FrameScene::resume(
+        &r.edge,
+        &mut r.arena,
+        r.exponent,
+        r.peaks.clone(),
+    )
+    .unwrap();
     let reflectors = r.edge.cancel(&scene, &hint);
     assert!(!reflectors.is_empty());
     let geo = r.edge.geometry();

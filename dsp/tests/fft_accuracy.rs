@@ -1,8 +1,10 @@
 //! FFT accuracy against an independent f64 reference (rustfft in double precision) on the same
 //! quantized input: complex uniform noise, each component uniform in ±10^(dBFS/20) of full scale.
 
-use dsp::fft::{Complex32, bit_reversed, cfft_f32, cfft_q15, cfft_q15_bit_reversed, cfft_q31};
-use dsp::fixed::{CQ15, CQ31, Complex};
+use metamoran_dsp::fft::{
+    Complex32, bit_reversed, cfft_f32, cfft_q15, cfft_q15_bit_reversed, cfft_q31,
+};
+use metamoran_dsp::fixed::{CQ15, CQ31, Complex};
 use rustfft::{FftPlanner, num_complex::Complex64};
 
 /// Deterministic uniform noise in [-1, 1) (xorshift64*).
@@ -59,8 +61,8 @@ fn q31_sqnr(n: usize, dbfs: f64, seed: u64) -> f64 {
     let mut buf: Vec<CQ31> = (0..n)
         .map(|_| {
             Complex::new(
-                dsp::fixed::Q31::from_f64(amp * noise.next()),
-                dsp::fixed::Q31::from_f64(amp * noise.next()),
+                metamoran_dsp::fixed::Q31::from_f64(amp * noise.next()),
+                metamoran_dsp::fixed::Q31::from_f64(amp * noise.next()),
             )
         })
         .collect();

@@ -1,12 +1,12 @@
 //! Property tests: no input makes the DSP panic, and the fixed-point FFT stays close to an f64
 //! reference for any Q15 input, including full-scale worst cases.
 
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::clutter::remove_mean;
-use dsp::detect::{Boundary, Cfar, CfarKind, quadratic_offset};
-use dsp::fft::cfft_q15;
-use dsp::fixed::CQ15;
-use dsp::range::RangeProcessor;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::clutter::remove_mean;
+use metamoran_dsp::detect::{Boundary, Cfar, CfarKind, quadratic_offset};
+use metamoran_dsp::fft::cfft_q15;
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::range::RangeProcessor;
 use proptest::prelude::*;
 use rustfft::{FftPlanner, num_complex::Complex64};
 

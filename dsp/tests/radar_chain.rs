@@ -1,15 +1,15 @@
 //! The range → Doppler → azimuth chain on signals synthesized from the bundle format's signal
 //! model (`shared/spec/bundle.md`), checked against the closed-form bins of each reflector.
 
-use dsp::array::VirtualArray;
-use dsp::azimuth::{azimuth_spectrum, beamform};
-use dsp::config::{RadarConfig, SPEED_OF_LIGHT, azimuth_bin_to_angle};
-use dsp::doppler::{DopplerOptions, magnitude, range_doppler_map};
-use dsp::fft::Exponent;
-use dsp::fixed::CQ15;
-use dsp::range::{RangeCube, RangeProcessor};
-use dsp::units::signed_bin;
 use heapless::Vec as HVec;
+use metamoran_dsp::array::VirtualArray;
+use metamoran_dsp::azimuth::{azimuth_spectrum, beamform};
+use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT, azimuth_bin_to_angle};
+use metamoran_dsp::doppler::{DopplerOptions, magnitude, range_doppler_map};
+use metamoran_dsp::fft::Exponent;
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::range::{RangeCube, RangeProcessor};
+use metamoran_dsp::units::signed_bin;
 use std::f64::consts::PI;
 
 fn config() -> RadarConfig {

@@ -1,12 +1,12 @@
 //! The telemetry link: round trips, authentication, replay window, loss and reordering
 //! accounting, message sizes, and a fuzz run of both decoders on ≥ 1 M random and mutated frames.
 
-use dsp::config::RadarConfig;
-use dsp::pipeline::ObjectHint;
-use dsp::search::Contour;
-use dsp::wire::frame::MAX_PAYLOAD;
-use dsp::wire::message::{Clutter, MAX_CLUTTER, MAX_OBJECTS};
-use dsp::wire::{
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::pipeline::ObjectHint;
+use metamoran_dsp::search::Contour;
+use metamoran_dsp::wire::frame::MAX_PAYLOAD;
+use metamoran_dsp::wire::message::{Clutter, MAX_CLUTTER, MAX_OBJECTS};
+use metamoran_dsp::wire::{
     Deframer, Downlink, FrameSummary, Health, Hint, Key, LinkError, LinkStats, MAX_WIRE,
     ObjectResult, Receiver, Sender, Stream, Uplink,
 };
@@ -48,7 +48,7 @@ fn receive<M: for<'b> serde::Deserialize<'b>>(
 
 /// The largest configuration the module takes: the 12 × 16 cascade.
 fn cascade() -> RadarConfig {
-    use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
+    use metamoran_dsp::config::boards::{CASCADE_RX, CASCADE_TX};
     RadarConfig {
         start_frequency_hz: 77.0e9,
         slope_hz_per_s: 30.0e12,
@@ -106,7 +106,7 @@ fn messages_round_trip_and_frames_have_no_zero_inside() {
         result(1, 2),
         Uplink::Fault {
             frame: 3,
-            fault: dsp::wire::Fault::Capture,
+            fault: metamoran_dsp::wire::Fault::Capture,
         },
         Uplink::Health(Health {
             frames: 9,

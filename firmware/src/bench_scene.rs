@@ -4,13 +4,13 @@
 //! with exact binary-angle phases, so host and module make the same frame.
 
 use crate::workload::Lcg;
-use dsp::config::RadarConfig;
-use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
-use dsp::fixed::CQ15;
-use dsp::pipeline::ObjectHint;
-use dsp::response::kernel::half_turns;
-use dsp::search::Contour;
-use dsp::trig::{Phase, expj_neg};
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::config::boards::{CASCADE_RX, CASCADE_TX};
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::pipeline::ObjectHint;
+use metamoran_dsp::response::kernel::half_turns;
+use metamoran_dsp::search::Contour;
+use metamoran_dsp::trig::{Phase, expj_neg};
 
 /// Samples per chirp.
 pub const N: usize = 512;
@@ -31,7 +31,7 @@ const DEPTH: f32 = 1.5;
 pub fn config() -> RadarConfig {
     RadarConfig {
         start_frequency_hz: 77.0e9,
-        slope_hz_per_s: 10.0e6 * dsp::config::SPEED_OF_LIGHT / (2.0 * MAX_RANGE),
+        slope_hz_per_s: 10.0e6 * metamoran_dsp::config::SPEED_OF_LIGHT / (2.0 * MAX_RANGE),
         sample_rate_hz: 10.0e6,
         adc_samples: N as u16,
         chirp_period_s: 59.2e-6,

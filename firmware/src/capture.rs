@@ -1,7 +1,7 @@
 //! Where radar frames come from: the capture source trait and its three implementations.
 //!
 //! The module reads each (chirp, receiver) row as the radar board sends it: `4·N` bytes of
-//! DCA1000 groups (the bundle's `radar.bin` layout, see `dsp::capture::dca1000`), frames in
+//! DCA1000 groups (the bundle's `radar.bin` layout, see `metamoran_dsp::capture::dca1000`), frames in
 //! order. [`SpiCapture`] reads them from the board over an embedded-hal SPI device,
 //! [`SliceCapture`] from memory (host tests, mocks), and on QEMU `board::SemihostingFile` from
 //! a file on the host.

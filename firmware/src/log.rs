@@ -2,7 +2,7 @@
 //! host by `defmt-print -e ELF`), nothing on the host, where tests read the counters instead.
 //!
 //! Every counted error of the loop is also logged here, so a person watching the module sees
-//! each event as it happens and the host sees the totals in [`dsp::wire::Health`].
+//! each event as it happens and the host sees the totals in [`metamoran_dsp::wire::Health`].
 
 /// Logs an event at `info` level (format string and arguments as in `defmt::info!`).
 #[macro_export]

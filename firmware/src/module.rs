@@ -13,16 +13,16 @@
 
 use crate::capture::CaptureSource;
 use crate::clock::Monotonic;
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, ObjectHint};
-use dsp::wire::message::MAX_OBJECTS;
-use dsp::wire::{
+use embedded_io::{Read, ReadReady, Write};
+use heapless::Vec;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::pipeline::{Edge, ObjectHint};
+use metamoran_dsp::wire::message::MAX_OBJECTS;
+use metamoran_dsp::wire::{
     Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, ObjectResult,
     Receiver, Sender, Stream, Uplink,
 };
-use embedded_io::{Read, ReadReady, Write};
-use heapless::Vec;
 
 /// Longest chirp the module takes (samples).
 pub const MAX_SAMPLES: usize = 1024;
@@ -386,7 +386,7 @@ fn fault_name(fault: Fault) -> &'static str {
 }
 
 /// Whether `config` fits the module's scratch.
-fn fits(config: &dsp::config::RadarConfig) -> bool {
+fn fits(config: &metamoran_dsp::config::RadarConfig) -> bool {
     (config.adc_samples as usize) <= MAX_SAMPLES && config.range_fft_len() <= MAX_SAMPLES
 }
 
@@ -397,7 +397,7 @@ mod tests {
     use crate::bench_scene;
     use crate::capture::SliceCapture;
     use crate::clock::StepClock;
-    use dsp::wire::{DEV_KEY, Fault, Health, LinkError};
+    use metamoran_dsp::wire::{DEV_KEY, Fault, Health, LinkError};
     use std::collections::VecDeque;
     use std::vec;
     use std::vec::Vec as StdVec;

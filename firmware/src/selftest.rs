@@ -5,14 +5,14 @@
 //! Cortex-M7 as on x86.
 
 use crate::workload::{Fnv, noise_q15, noise_q31};
-use dsp::array::VirtualArray;
-use dsp::azimuth::beamform;
-use dsp::config::RadarConfig;
-use dsp::detect::{Boundary, Cfar, CfarKind};
-use dsp::fft::{Cfft, Complex32, cfft_f32, cfft_q15};
-use dsp::fixed::{CQ15, CQ31, Q15};
-use dsp::range::RangeProcessor;
-use dsp::window::Window;
+use metamoran_dsp::array::VirtualArray;
+use metamoran_dsp::azimuth::beamform;
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::detect::{Boundary, Cfar, CfarKind};
+use metamoran_dsp::fft::{Cfft, Complex32, cfft_f32, cfft_q15};
+use metamoran_dsp::fixed::{CQ15, CQ31, Q15};
+use metamoran_dsp::range::RangeProcessor;
+use metamoran_dsp::window::Window;
 
 /// The result of one workload.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -120,7 +120,9 @@ fn range_workload() -> (Outcome, [CQ15; 256]) {
     let mut samples = [CQ15::default(); 200];
     noise_q15(40, Q15(100), &mut samples);
     for (n, s) in samples.iter_mut().enumerate() {
-        let t = dsp::trig::expj_neg(dsp::trig::Phase::from_turns(-(40.5 * n as f64) / 256.0));
+        let t = metamoran_dsp::trig::expj_neg(metamoran_dsp::trig::Phase::from_turns(
+            -(40.5 * n as f64) / 256.0,
+        ));
         s.re = Q15(s.re.0.saturating_add(t.re.0 / 4));
         s.im = Q15(s.im.0.saturating_add(t.im.0 / 4));
     }
@@ -175,7 +177,7 @@ fn beamform_workload() -> Outcome {
 fn cfar_workload(spectrum: &[CQ15; 256]) -> Outcome {
     let mut profile = [0f32; 256];
     for (p, z) in profile.iter_mut().zip(spectrum) {
-        *p = dsp::doppler::magnitude(*z, dsp::fft::Exponent(0));
+        *p = metamoran_dsp::doppler::magnitude(*z, metamoran_dsp::fft::Exponent(0));
     }
     let cfar = Cfar {
         guard: 2,
@@ -201,11 +203,11 @@ fn complex_mac_workload() -> Outcome {
     let mut w = [CQ15::default(); 48];
     noise_q15(48, Q15(32767), &mut x);
     noise_q15(49, Q15(32767), &mut w);
-    let pack = |z: &[CQ15; 48]| z.map(dsp::range::frame_sum::pack);
+    let pack = |z: &[CQ15; 48]| z.map(metamoran_dsp::range::frame_sum::pack);
     let (xw, ww) = (pack(&x), pack(&w));
     let mut h = Fnv::default();
     for len in 0..=xw.len() {
-        let (re, im) = dsp::fft::complex_mac(&xw[..len], &ww[..len]);
+        let (re, im) = metamoran_dsp::fft::complex_mac(&xw[..len], &ww[..len]);
         h.u32(re as u32);
         h.u32((re >> 32) as u32);
         h.u32(im as u32);
@@ -221,7 +223,7 @@ fn complex_mac_workload() -> Outcome {
 /// Frame sums at every chirp length 1..=9 (the widening loop's pairs and odd word), two
 /// elements, three full-scale noise chirps each, then the in-place range spectra.
 fn frame_sum_workload() -> Outcome {
-    use dsp::range::FrameSum;
+    use metamoran_dsp::range::FrameSum;
     let mut h = Fnv::default();
     let mut exponents = 0u32;
     let mut chirp = [CQ15::default(); 9];
@@ -258,13 +260,13 @@ fn frame_sum_workload() -> Outcome {
     }
 }
 
-/// The module pipeline (`dsp::pipeline`: frame sums, in-place range spectra, peak scan, SIC,
+/// The module pipeline (`metamoran_dsp::pipeline`: frame sums, in-place range spectra, peak scan, SIC,
 /// depth search) on a synthetic 2 TX × 4 RX, 64-sample frame: a contour object at bin 20.3 and a
 /// strong reflector at bin 9.6, 35° away.
 fn search_workload() -> Outcome {
-    use dsp::config::RadarConfig;
-    use dsp::pipeline::{Edge, ObjectHint};
-    use dsp::search::Contour;
+    use metamoran_dsp::config::RadarConfig;
+    use metamoran_dsp::pipeline::{Edge, ObjectHint};
+    use metamoran_dsp::search::Contour;
     const N: usize = 64;
     let failed = |hash| Outcome {
         name: "search_sic",
@@ -299,10 +301,10 @@ fn search_workload() -> Outcome {
             let mut chirp = [CQ15::default(); N];
             for (n, z) in chirp.iter_mut().enumerate() {
                 let turns = |bin: f64, extra: f64| {
-                    dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
+                    metamoran_dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
                 };
-                let a = dsp::trig::expj_neg(turns(20.3, 0.0));
-                let b = dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
+                let a = metamoran_dsp::trig::expj_neg(turns(20.3, 0.0));
+                let b = metamoran_dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
                 *z = CQ15::from_raw(a.re.0 / 64 + b.re.0 / 4, a.im.0 / 64 + b.im.0 / 4);
             }
             if edge.push(&mut frame, chirp_no, rx, &chirp).is_err() {

@@ -1,6 +1,6 @@
 //! Deterministic inputs: the same values on every platform.
 
-use dsp::fixed::{CQ15, CQ31, Complex, Q15, Q31};
+use metamoran_dsp::fixed::{CQ15, CQ31, Complex, Q15, Q31};
 
 /// A 32-bit linear congruential generator (Numerical Recipes constants).
 #[derive(Clone, Debug)]

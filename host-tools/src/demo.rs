@@ -338,7 +338,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
 fn plan(edge: DemoEdge, firmware: Option<&Path>) -> Result<(Runner, String, bool), crate::Error> {
     let qemu = firmware.map(|firmware| Runner::Qemu {
         firmware: firmware.to_owned(),
-        key: dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+        key: metamoran_dsp::wire::Key::new(&metamoran_dsp::wire::DEV_KEY),
     });
     let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned();
     let here = |why: &str| (Runner::InProcess, format!("in this process{why}"), false);
@@ -414,7 +414,7 @@ fn write_files(
 }
 
 /// The module's health counters in words, for the report.
-fn link_words(h: &dsp::wire::Health) -> String {
+fn link_words(h: &metamoran_dsp::wire::Health) -> String {
     format!(
         "module counted {} frames; its link accepted {}, rejected {} bad tags and {} replays, \
          saw {} lost and {} reordered frames; {} capture, {} pipeline, {} protocol errors; \

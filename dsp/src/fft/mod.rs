@@ -96,9 +96,9 @@ fn check(n: usize) -> Result<(), FftError> {
 /// # Example
 /// A half-scale tone at bin 3 of a 16-point FFT:
 /// ```
-/// use dsp::fft::cfft_q15;
-/// use dsp::fixed::{CQ15, Q15};
-/// use dsp::trig::{Phase, expj_neg};
+/// use metamoran_dsp::fft::cfft_q15;
+/// use metamoran_dsp::fixed::{CQ15, Q15};
+/// use metamoran_dsp::trig::{Phase, expj_neg};
 ///
 /// let mut x = [CQ15::default(); 16];
 /// for (n, z) in x.iter_mut().enumerate() {
@@ -112,7 +112,7 @@ fn check(n: usize) -> Result<(), FftError> {
 /// // The true DFT is the output · 2^exponent: 16 samples of amplitude ½ sum to 8.
 /// let amplitude = x[3].re.to_f32() * 2f32.powi(exponent.0 as i32);
 /// assert!((amplitude - 8.0).abs() < 0.05, "{amplitude}");
-/// # Ok::<(), dsp::fft::FftError>(())
+/// # Ok::<(), metamoran_dsp::fft::FftError>(())
 /// ```
 pub fn cfft_q15(buf: &mut [CQ15]) -> Result<Exponent, FftError> {
     check(buf.len())?;
@@ -155,8 +155,8 @@ pub fn cfft_q31(buf: &mut [CQ31]) -> Result<Exponent, FftError> {
 /// An FFT whose length is checked at compile time.
 ///
 /// ```
-/// use dsp::fft::Cfft;
-/// use dsp::fixed::CQ15;
+/// use metamoran_dsp::fft::Cfft;
+/// use metamoran_dsp::fixed::CQ15;
 /// let mut x = [CQ15::default(); 256];
 /// let _exp = Cfft::<256>::q15(&mut x);
 /// ```

@@ -14,10 +14,10 @@
 #[cfg(target_os = "none")]
 mod app {
     use cortex_m_rt::entry;
-    use dsp::wire::{DEV_KEY, Key};
     use firmware::board::{SemihostingFile, StackGauge, Timer0};
     use firmware::module::{Module, Poll, Scratch};
     use firmware::uart::{CmsdkUart, UART0};
+    use metamoran_dsp::wire::{DEV_KEY, Key};
 
     firmware::hard_fault_exits!();
 

@@ -8,10 +8,10 @@
 mod app {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::hprintln;
-    use dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
-    use dsp::fixed::{CQ15, CQ31, Q15};
     use firmware::board::{INSTRUCTIONS_PER_TICK, Timer0};
     use firmware::workload::{noise_q15, noise_q31};
+    use metamoran_dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
+    use metamoran_dsp::fixed::{CQ15, CQ31, Q15};
 
     firmware::hard_fault_exits!();
 

@@ -10,10 +10,10 @@
 mod app {
     use cortex_m_rt::entry;
     use cortex_m_semihosting::hprintln;
-    use dsp::fixed::CQ15;
-    use dsp::pipeline::Edge;
     use firmware::bench_scene::{self, ARENA_WORDS, N};
     use firmware::board::{INSTRUCTIONS_PER_TICK, Timer0};
+    use metamoran_dsp::fixed::CQ15;
+    use metamoran_dsp::pipeline::Edge;
 
     firmware::hard_fault_exits!();
 

@@ -7,8 +7,8 @@
 use crate::error::{InputError, read_text};
 use crate::fields::{Fields, parse_toml};
 use crate::{FramesField, RadarFile, parse_radar};
-use dsp::capture::IqOrder;
-use dsp::config::RadarConfig;
+use metamoran_dsp::capture::IqOrder;
+use metamoran_dsp::config::RadarConfig;
 use std::path::Path;
 
 /// Parses the `[radar]` table of a radar config TOML (the text of `path`).

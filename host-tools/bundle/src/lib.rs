@@ -33,8 +33,8 @@ pub use scene::{ADC_LAYOUT, CameraConfig, FORMAT, FramesField, Scene, parse_rada
 pub use truth::{Ego, Truth, TruthFrame, TruthObject};
 
 use crate::error::InputError;
-use dsp::capture::IqOrder;
-use dsp::fixed::CQ15;
+use metamoran_dsp::capture::IqOrder;
+use metamoran_dsp::fixed::CQ15;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

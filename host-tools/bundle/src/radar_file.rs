@@ -1,9 +1,9 @@
 //! Reading frames of DCA1000 samples from `radar.bin` or a bare capture.
 
 use crate::error::InputError;
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::config::RadarConfig;
-use dsp::fixed::CQ15;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::fixed::CQ15;
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};

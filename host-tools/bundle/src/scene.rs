@@ -2,7 +2,7 @@
 
 use crate::error::{InputError, read_text};
 use crate::fields::{Fields, parse_toml};
-use dsp::config::{ConfigError, MAX_RX, MAX_SLOTS, MAX_TX, RadarConfig};
+use metamoran_dsp::config::{ConfigError, MAX_RX, MAX_SLOTS, MAX_TX, RadarConfig};
 use std::path::{Path, PathBuf};
 
 /// The exact format tag of a version-1 bundle.
@@ -153,7 +153,7 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
         FramesField::Optional if !f.has("frames") => 0,
         _ => f.integer("frames", 1, u32::MAX as i64)? as u32,
     };
-    let max_fft = dsp::fft::MAX_LEN as i64;
+    let max_fft = metamoran_dsp::fft::MAX_LEN as i64;
     let adc_samples = f.integer("adc_samples", 2, max_fft)?;
     if adc_samples % 2 != 0 {
         return Err(f.error(

@@ -1,6 +1,6 @@
 //! The edge crate's errors: what failed between the host and the module, and what to do.
 
-use dsp::wire::{EncodeError, Fault, LinkError};
+use metamoran_dsp::wire::{EncodeError, Fault, LinkError};
 use std::path::PathBuf;
 use std::time::Duration;
 

@@ -1,12 +1,12 @@
 //! The module under QEMU as the host's edge: `process --edge qemu` builds the `edge` firmware,
 //! starts `qemu-system-arm` with UART0 on a loopback TCP socket and the bundle's `radar.bin` as
-//! the capture file, and speaks the telemetry protocol (`dsp::wire`) to it: configuration, then
+//! the capture file, and speaks the telemetry protocol (`metamoran_dsp::wire`) to it: configuration, then
 //! per frame the hints and a `Frame` message, then the per-object results until the frame's
 //! summary.
 
 use crate::{EdgeError, qemu};
-use dsp::config::RadarConfig;
-use dsp::wire::{
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::wire::{
     Deframer, Downlink, Fault, Health, Hint, Key, LinkError, MAX_WIRE, ObjectResult, Receiver,
     Sender, Stream, Uplink,
 };
@@ -298,7 +298,7 @@ impl QemuEdge {
     }
 
     /// The host side's receive counters.
-    pub fn link_stats(&self) -> dsp::wire::LinkStats {
+    pub fn link_stats(&self) -> metamoran_dsp::wire::LinkStats {
         self.receiver.stats()
     }
 }

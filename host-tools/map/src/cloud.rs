@@ -1,10 +1,10 @@
 //! Radar point clouds of a bundle's frames, with the module's `dsp` processing.
 
 use crate::MapError;
-use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
-use dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
-use dsp::window::WindowKind;
 use metamoran_bundle::Bundle;
+use metamoran_dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
+use metamoran_dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
+use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 
 /// The detector settings for mapping: CA-CFAR 9.5 dB over magnitude (×3), 2 guard and 8
@@ -34,7 +34,7 @@ pub struct Clouds {
     processor: FrameProcessor,
     geometry: ArrayGeometry,
     options: CloudOptions,
-    samples: Vec<dsp::fixed::CQ15>,
+    samples: Vec<metamoran_dsp::fixed::CQ15>,
 }
 
 impl Clouds {

@@ -20,7 +20,7 @@ pub enum MapError {
         /// The bundle's `scene.toml`.
         scene: PathBuf,
         /// What is wrong with the array.
-        source: dsp::points::GeometryError,
+        source: metamoran_dsp::points::GeometryError,
     },
     /// The 3D-RadarHR model failed to load or run.
     #[error("{0}")]

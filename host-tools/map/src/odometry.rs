@@ -1,13 +1,13 @@
 //! Doppler odometry: per frame, the radar's velocity by RANSAC over its point cloud
-//! (`dsp::ego`), the vehicle's speed and yaw rate by the Ackermann relation, the integrated
+//! (`metamoran_dsp::ego`), the vehicle's speed and yaw rate by the Ackermann relation, the integrated
 //! pose, and, where the bundle has truth, the errors against it. Its poses and static points
 //! are what [`super::depth`] builds submaps from.
 
 use super::cloud::{Clouds, default_options};
 use crate::MapError;
-use dsp::ego::{DopplerDetection, Mount, Ransac, estimate};
 use metamoran_bundle::pose::Pose;
 use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_dsp::ego::{DopplerDetection, Mount, Ransac, estimate};
 use serde::Serialize;
 use std::path::Path;
 

@@ -6,7 +6,7 @@ use super::depth::{self, Completion, DepthImages};
 use super::odometry::{self, Odometry};
 use super::submap::density_growth;
 use crate::MapError;
-use dsp::ego::Mount;
+use metamoran_dsp::ego::Mount;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;

@@ -1,12 +1,12 @@
-//! Radar point clouds (`dsp::points` through `FrameProcessor::points`) against closed forms:
+//! Radar point clouds (`metamoran_dsp::points` through `FrameProcessor::points`) against closed forms:
 //! point reflectors synthesized with the simulator's signal model (bundle.md's, plus the
 //! README's elevation term) at known range, azimuth, elevation and radial velocity, on the
 //! drive preset's board (3 TX, one of them half a wavelength up, TDM).
 
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::fixed::CQ15;
-use dsp::points::ArrayGeometry;
-use dsp::window::WindowKind;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::points::ArrayGeometry;
+use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 use metamoran_sim::radar::drive_config;
 use metamoran_sim::signal::{Echo, synthesize};

@@ -57,7 +57,12 @@ pub struct LinkHealth {
 
 impl LinkHealth {
     /// Folds in frame number `seen` (1-based count) with its `latency` and the link counters.
-    pub fn update(&mut self, seen: u32, latency: Duration, link: Option<dsp::wire::LinkStats>) {
+    pub fn update(
+        &mut self,
+        seen: u32,
+        latency: Duration,
+        link: Option<metamoran_dsp::wire::LinkStats>,
+    ) {
         let ms = latency.as_secs_f64() * 1e3;
         self.latency_ms = ms;
         self.mean_latency_ms += (ms - self.mean_latency_ms) / f64::from(seen.max(1));
@@ -296,7 +301,7 @@ mod tests {
     #[test]
     fn the_view_shows_objects_latest_alerts_and_link_health() {
         let mut link = LinkHealth::default();
-        let stats = dsp::wire::LinkStats {
+        let stats = metamoran_dsp::wire::LinkStats {
             accepted: 95,
             lost: 5,
             bad_tag: 3,

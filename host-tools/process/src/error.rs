@@ -17,28 +17,28 @@ pub enum ProcessError {
     Edge(#[from] EdgeError),
     /// The radar configuration is not one the DSP handles.
     #[error("radar configuration: {0}")]
-    Config(#[from] dsp::config::ConfigError),
+    Config(#[from] metamoran_dsp::config::ConfigError),
     /// The virtual array cannot be built from the configuration.
     #[error("radar configuration: {0}")]
-    Array(#[from] dsp::array::ArrayError),
+    Array(#[from] metamoran_dsp::array::ArrayError),
     /// The range stage refused its input.
     #[error("range processing: {0}")]
-    Range(#[from] dsp::range::RangeError),
+    Range(#[from] metamoran_dsp::range::RangeError),
     /// The Doppler stage refused its input.
     #[error("Doppler processing: {0}")]
-    Doppler(#[from] dsp::doppler::DopplerError),
+    Doppler(#[from] metamoran_dsp::doppler::DopplerError),
     /// The azimuth FFT refused its input.
     #[error("azimuth processing: {0}")]
-    Fft(#[from] dsp::fft::FftError),
+    Fft(#[from] metamoran_dsp::fft::FftError),
     /// The point cloud could not be formed.
     #[error("point cloud: {0}")]
-    Points(#[from] dsp::points::PointsError),
+    Points(#[from] metamoran_dsp::points::PointsError),
     /// The module's pipeline failed.
     #[error("module pipeline: {0}")]
-    Pipeline(#[from] dsp::pipeline::PipelineError),
+    Pipeline(#[from] metamoran_dsp::pipeline::PipelineError),
     /// The depth search failed.
     #[error("depth search: {0}")]
-    Search(#[from] dsp::search::depth::SearchError),
+    Search(#[from] metamoran_dsp::search::depth::SearchError),
     /// A frame's sample count does not match the configuration.
     #[error("frame has {got} samples; the config needs {expected}")]
     FrameLength {

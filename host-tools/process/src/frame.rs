@@ -2,16 +2,16 @@
 //! profile, range–Doppler map, and the azimuth of any cell.
 
 use crate::ProcessError;
-use dsp::array::VirtualArray;
-use dsp::azimuth::azimuth_spectrum;
-use dsp::config::{RadarConfig, azimuth_bin_to_angle};
-use dsp::detect::quadratic_offset;
-use dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map};
-use dsp::fft::{self, Exponent};
-use dsp::fixed::{CQ15, Q15};
-use dsp::range::{RangeCube, RangeProcessor};
-use dsp::units::signed_bin;
-use dsp::window::{self, WindowKind};
+use metamoran_dsp::array::VirtualArray;
+use metamoran_dsp::azimuth::azimuth_spectrum;
+use metamoran_dsp::config::{RadarConfig, azimuth_bin_to_angle};
+use metamoran_dsp::detect::quadratic_offset;
+use metamoran_dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map};
+use metamoran_dsp::fft::{self, Exponent};
+use metamoran_dsp::fixed::{CQ15, Q15};
+use metamoran_dsp::range::{RangeCube, RangeProcessor};
+use metamoran_dsp::units::signed_bin;
+use metamoran_dsp::window::{self, WindowKind};
 
 /// Shortest axis that gets a window; shorter ones are processed rectangular.
 pub const MIN_WINDOW_LEN: usize = 8;
@@ -222,21 +222,21 @@ impl FrameProcessor {
     }
 
     /// The point cloud of the last processed frame (`spectra` is what [`Self::process`]
-    /// returned for it): [`dsp::points::frame_points`] over this processor's range cube.
+    /// returned for it): [`metamoran_dsp::points::frame_points`] over this processor's range cube.
     ///
     /// # Errors
     /// [`ProcessError`] if the buffers do not fit the configuration.
     pub fn points(
         &mut self,
         spectra: &FrameSpectra,
-        geometry: &dsp::points::ArrayGeometry,
-        options: &dsp::points::CloudOptions,
-    ) -> Result<Vec<dsp::points::RadarPoint>, ProcessError> {
+        geometry: &metamoran_dsp::points::ArrayGeometry,
+        options: &metamoran_dsp::points::CloudOptions,
+    ) -> Result<Vec<metamoran_dsp::points::RadarPoint>, ProcessError> {
         let mut scratch = std::mem::take(&mut self.scratch);
         let mut values =
             vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * spectra.doppler_len];
         let mut out = Vec::new();
-        let result = dsp::points::frame_points(
+        let result = metamoran_dsp::points::frame_points(
             &self.cube,
             &self.config,
             geometry,

@@ -22,11 +22,11 @@ pub use error::ProcessError;
 
 use crate::frame::{FrameOptions, FrameProcessor};
 use camera_points::{CameraObject, objects_of_interest};
-use dsp::pipeline::ObjectHint;
-use dsp::window::WindowKind;
-use dsp::wire::Key;
 use metamoran_bundle::geometry::{CameraModel, Point};
 use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_dsp::pipeline::ObjectHint;
+use metamoran_dsp::window::WindowKind;
+use metamoran_dsp::wire::Key;
 use metamoran_edge::link::{EdgeLog, QemuEdge};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -178,7 +178,7 @@ pub struct FrameEvent<'a> {
     /// Doppler pass for movers and the module's round trip (QEMU) or search (in process).
     pub latency: std::time::Duration,
     /// The host's receive counters of the telemetry link (QEMU only).
-    pub link: Option<dsp::wire::LinkStats>,
+    pub link: Option<metamoran_dsp::wire::LinkStats>,
 }
 
 /// [`process`], calling `on_frame` as each frame's results arrive (an error it returns stops
@@ -249,7 +249,7 @@ fn start_module(
     let (Mode::Metamoran, Runner::Qemu { firmware, key }) = (options.mode, &options.runner) else {
         return Ok(None);
     };
-    if options.open.iq_order != dsp::capture::IqOrder::Iiqq {
+    if options.open.iq_order != metamoran_dsp::capture::IqOrder::Iiqq {
         return Err(ProcessError::IqOrder);
     }
     let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
@@ -262,7 +262,7 @@ fn start_module(
 fn metamoran_frame(
     bundle: &Bundle,
     frame: u32,
-    samples: &[dsp::fixed::CQ15],
+    samples: &[metamoran_dsp::fixed::CQ15],
     objects: &[CameraObject],
     module: Option<&mut QemuEdge>,
 ) -> Result<Vec<ObjectEstimate>, ProcessError> {

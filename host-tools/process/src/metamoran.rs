@@ -5,18 +5,18 @@
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
-use dsp::clutter::peaks::{MAX_PEAKS, Peak};
-use dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
-use dsp::config::RadarConfig;
-use dsp::fft::C32;
-use dsp::fixed::CQ15;
-use dsp::pipeline::{Edge, FrameScene, ObjectHint, ObjectReport};
-use dsp::range::{Spectra, StaticSum};
-use dsp::search::Contour;
-use dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
-use dsp::window::{WindowKind, coefficient_f64};
-use dsp::wire::{Hint, ObjectResult as WireResult};
 use metamoran_bundle::geometry::{Point, azimuth, range_xz};
+use metamoran_dsp::clutter::peaks::{MAX_PEAKS, Peak};
+use metamoran_dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::fft::C32;
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::pipeline::{Edge, FrameScene, ObjectHint, ObjectReport};
+use metamoran_dsp::range::{Spectra, StaticSum};
+use metamoran_dsp::search::Contour;
+use metamoran_dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
+use metamoran_dsp::window::{WindowKind, coefficient_f64};
+use metamoran_dsp::wire::{Hint, ObjectResult as WireResult};
 
 /// Width of the azimuth bins that build the contour and reject edge outliers, rad.
 const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
@@ -24,7 +24,7 @@ const AZ_BIN: f64 = 0.25 * std::f64::consts::PI / 180.0;
 /// edge outliers (the paper's per-azimuth-bin point-count threshold).
 const EDGE_FRACTION: f64 = 0.25;
 
-/// A frame's static scene through the module's pipeline ([`dsp::pipeline`]): the arena with the
+/// A frame's static scene through the module's pipeline ([`metamoran_dsp::pipeline`]): the arena with the
 /// frame's fixed-point spectra and peak list, plus the `f32` sums the reference search needs.
 pub struct StaticScene {
     edge: Edge,
@@ -133,7 +133,8 @@ impl StaticScene {
         let mut out = Vec::with_capacity(sin_grid.len() * bins);
         for &s in sin_grid {
             row.fill(C32::new(0.0, 0.0));
-            dsp::clutter::sic::Residual::new(&view.spectra, &geo, reflectors, s).fill(0, &mut row);
+            metamoran_dsp::clutter::sic::Residual::new(&view.spectra, &geo, reflectors, s)
+                .fill(0, &mut row);
             out.extend(row.iter().map(|b| 10.0 * (b.norm_sqr() + 1e-12).log10()));
         }
         Ok(out)
@@ -206,7 +207,7 @@ impl MovingScene {
             .max_by(|&a, &b| incoherent(&self.spectra[a]).total_cmp(&incoherent(&self.spectra[b])))
             .unwrap_or(0);
         let sp = &self.spectra[q];
-        let qs = dsp::units::signed_bin(q, nd) as f32;
+        let qs = metamoran_dsp::units::signed_bin(q, nd) as f32;
         let compensation = |alias: i32| -> Vec<C32> {
             let f = (qs + (alias * nd as i32) as f32) / (nd * self.slots) as f32;
             (0..c)
@@ -336,7 +337,7 @@ fn pack_elements(edge: &Edge, channels: &[C32], m: usize) -> (Vec<u32>, i32) {
     let mut words = vec![0u32; sums.len()];
     for (i, z) in sums.iter().enumerate() {
         let at = Spectra::word_index(i / m, i % m, array.elements());
-        words[at] = dsp::range::frame_sum::pack(CQ15::from_raw(
+        words[at] = metamoran_dsp::range::frame_sum::pack(CQ15::from_raw(
             (z.re * scale).round() as i16,
             (z.im * scale).round() as i16,
         ));

@@ -5,9 +5,9 @@ use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
 use crate::frame::FrameProcessor;
-use dsp::config::azimuth_bin_to_angle;
-use dsp::detect::quadratic_offset;
-use dsp::units::signed_bin;
+use metamoran_dsp::config::azimuth_bin_to_angle;
+use metamoran_dsp::detect::quadratic_offset;
+use metamoran_dsp::units::signed_bin;
 
 /// The range–azimuth map of the static scene: `|azimuth spectrum|` per range bin.
 pub struct RangeAzimuth {

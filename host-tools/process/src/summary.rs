@@ -2,12 +2,12 @@
 //! targets found by CFAR on the range–Doppler map with their range, velocity and azimuth).
 
 use crate::frame::{FrameOptions, FrameProcessor};
-use dsp::config::RadarConfig;
-use dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind, is_local_max, quadratic_offset};
-use dsp::units::signed_bin;
-use dsp::window::WindowKind;
 use metamoran_bundle::RadarFile;
 use metamoran_bundle::error::InputError;
+use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind, is_local_max, quadratic_offset};
+use metamoran_dsp::units::signed_bin;
+use metamoran_dsp::window::WindowKind;
 use serde::Serialize;
 
 /// Geometry of the capture.

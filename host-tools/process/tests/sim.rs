@@ -1,16 +1,20 @@
 //! The simulator against closed forms: a single point reflector lands in its predicted range
 //! bin, azimuth and Doppler bin for both boards, and a written bundle reads back exactly.
 
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::fixed::CQ15;
-use dsp::units::signed_bin;
-use dsp::window::WindowKind;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::units::signed_bin;
+use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 use metamoran_sim::radar::{RadarKind, config};
 use metamoran_sim::signal::{Echo, synthesize};
 use rand::SeedableRng;
 
-fn frame(kind: RadarKind, loops: u16, echo: Echo) -> (dsp::config::RadarConfig, Vec<CQ15>) {
+fn frame(
+    kind: RadarKind,
+    loops: u16,
+    echo: Echo,
+) -> (metamoran_dsp::config::RadarConfig, Vec<CQ15>) {
     let c = config(kind, 59.4, loops);
     let bytes = synthesize(&c, &[echo], &[], &mut rand_pcg::Pcg64Mcg::seed_from_u64(5));
     let mut s = vec![CQ15::default(); c.samples_per_frame()];

@@ -6,8 +6,8 @@
 
 use super::object::{self, GROUND_Y, Scatterer, SceneObject};
 use super::shape::Shape;
-use dsp::ego::{Mount, VehicleMotion};
 pub use metamoran_bundle::pose::Pose;
+use metamoran_dsp::ego::{Mount, VehicleMotion};
 use rand::Rng;
 use std::f64::consts::{PI, TAU};
 

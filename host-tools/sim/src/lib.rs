@@ -99,7 +99,7 @@ pub struct SimulatedScene {
     /// The objects as at the first frame (ids as in the camera products).
     pub objects: Vec<object::SceneObject>,
     /// Radar configuration (its `frames` and `frame_period_s` say how many and how often).
-    pub radar: dsp::config::RadarConfig,
+    pub radar: metamoran_dsp::config::RadarConfig,
     /// Camera configuration.
     pub camera: CameraConfig,
     /// `radar.bin` bytes, every frame.

@@ -2,8 +2,8 @@
 //! cascade-like board (TI MMWCAS), with the range resolution chosen from the scene's depth as
 //! in the Metamoran paper (4.2 cm to 20 m, 11.6 cm to 60 m, 21 cm to 90 m, coarser beyond).
 
-use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
 use heapless::Vec as HVec;
+use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT};
 
 /// Which board to simulate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,7 +14,7 @@ pub enum RadarKind {
     Cascade,
 }
 
-use dsp::config::boards::{CASCADE_RX, CASCADE_TX};
+use metamoran_dsp::config::boards::{CASCADE_RX, CASCADE_TX};
 
 /// Complex ADC sample rate of both boards, Hz.
 const SAMPLE_RATE: f64 = 10.0e6;
@@ -69,7 +69,12 @@ mod tests {
     fn cascade_has_86_elements_and_the_papers_resolutions() {
         let c = config(RadarKind::Cascade, max_range_for(10.0), 2);
         c.validate().unwrap();
-        assert_eq!(dsp::array::VirtualArray::new(&c).unwrap().elements(), 86);
+        assert_eq!(
+            metamoran_dsp::array::VirtualArray::new(&c)
+                .unwrap()
+                .elements(),
+            86
+        );
         assert!((c.range_bin_size(512) - 0.042).abs() < 0.001);
         assert!(
             (config(RadarKind::Cascade, max_range_for(30.0), 2).range_bin_size(512) - 0.116).abs()
@@ -80,7 +85,12 @@ mod tests {
                 < 0.001
         );
         let x = config(RadarKind::Xwr18xx, 59.4, 16);
-        assert_eq!(dsp::array::VirtualArray::new(&x).unwrap().elements(), 8);
+        assert_eq!(
+            metamoran_dsp::array::VirtualArray::new(&x)
+                .unwrap()
+                .elements(),
+            8
+        );
         // Chirp bandwidth stays within the 77–81 GHz band.
         assert!(c.slope_hz_per_s * 512.0 / SAMPLE_RATE < 4.0e9);
     }

@@ -7,7 +7,7 @@
 //! R_max from aliasing in), thermal noise, and int16 quantization.
 
 use super::object::SceneObject;
-use dsp::config::{RadarConfig, SPEED_OF_LIGHT};
+use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT};
 use rand::Rng;
 use rand_distr::StandardNormal;
 use std::f64::consts::PI;

@@ -1,8 +1,8 @@
 //! Writing a scene bundle exactly as bundle.md lays it out.
 
 use crate::SimError;
-use dsp::config::RadarConfig;
 use metamoran_bundle::{ADC_LAYOUT, CameraConfig, FORMAT, Truth};
+use metamoran_dsp::config::RadarConfig;
 use std::path::Path;
 
 fn io(path: &Path, e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> SimError {

@@ -8,7 +8,9 @@
 //!   cascade-86, 512-sample, 4-object budget frame (goal 24 M: half of a 100 ms frame at 480 MHz);
 //! * telemetry: wire bytes of the uplink frames a frame produces, per object and per frame.
 
-use dsp::wire::{DEV_KEY, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink};
+use metamoran_dsp::wire::{
+    DEV_KEY, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink,
+};
 use metamoran_edge::qemu;
 use serde::Serialize;
 use std::path::Path;

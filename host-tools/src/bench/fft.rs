@@ -4,8 +4,8 @@
 //! uniform noise, each part uniform in ±10^(dBFS/20) of full scale), at −12 and −40 dBFS.
 
 use super::cmsis::{CmsisFormat, CmsisRequest, cmsis_fft};
-use dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
-use dsp::fixed::{CQ15, CQ31, Complex, Q31};
+use metamoran_dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
+use metamoran_dsp::fixed::{CQ15, CQ31, Complex, Q31};
 use rustfft::FftPlanner;
 use rustfft::num_complex::{Complex32 as RComplex32, Complex64};
 use serde::Serialize;
@@ -146,7 +146,7 @@ fn transform(implementation: &str, input: &Input) -> Vec<Complex64> {
         "q15" => {
             let mut b = input.q15.clone();
             let s = cfft_q15(&mut b)
-                .map(dsp::fft::Exponent::scale_f64)
+                .map(metamoran_dsp::fft::Exponent::scale_f64)
                 .unwrap_or(f64::NAN);
             b.iter()
                 .map(|z| Complex64::new(z.re.to_f32() as f64 * s, z.im.to_f32() as f64 * s))
@@ -155,7 +155,7 @@ fn transform(implementation: &str, input: &Input) -> Vec<Complex64> {
         "q31" => {
             let mut b = input.q31.clone();
             let s = cfft_q31(&mut b)
-                .map(dsp::fft::Exponent::scale_f64)
+                .map(metamoran_dsp::fft::Exponent::scale_f64)
                 .unwrap_or(f64::NAN);
             b.iter()
                 .map(|z| Complex64::new(z.re.to_f64() * s, z.im.to_f64() * s))

@@ -2,10 +2,10 @@
 //! coarse-to-fine against the brute-force matched filter, in multiply-accumulates (counted by the
 //! searches themselves) and host time, plus the clutter cancellation that precedes them.
 
-use dsp::capture::{IqOrder, deinterleave_bytes};
-use dsp::fixed::CQ15;
 use metamoran_bundle::CameraFrame;
 use metamoran_bundle::geometry::CameraModel;
+use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::fixed::CQ15;
 use metamoran_process::camera_points::objects_of_interest;
 use metamoran_process::metamoran::{StaticScene, both_searches, fast_search, prepare};
 use metamoran_sim::{layout::Preset, radar::RadarKind, simulate_scene};

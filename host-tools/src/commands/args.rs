@@ -2,8 +2,8 @@
 //! do not depend on clap).
 
 use clap::ValueEnum;
-use dsp::capture::IqOrder;
 use metamoran_bundle::{CameraModels, OpenOptions};
+use metamoran_dsp::capture::IqOrder;
 use std::path::PathBuf;
 
 /// I/Q order of a capture's samples.

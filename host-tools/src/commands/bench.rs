@@ -67,7 +67,10 @@ enum What {
 pub fn run(args: &Args, locations: &Locations) -> super::Result {
     match &args.what {
         What::Fft { json, sizes } => {
-            if let Some(&bad) = sizes.iter().find(|&&n| !dsp::fft::is_supported_len(n)) {
+            if let Some(&bad) = sizes
+                .iter()
+                .find(|&&n| !metamoran_dsp::fft::is_supported_len(n))
+            {
                 return Err(format!("--sizes {bad}: use powers of two from 16 to 2048").into());
             }
             super::print(&bench::fft::run(sizes, true), *json)

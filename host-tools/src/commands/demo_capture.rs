@@ -1,9 +1,9 @@
 //! `metamoran demo-capture`: the built-in real TI capture summarized with the module's DSP.
 
 use super::args::Locations;
-use dsp::capture::IqOrder;
 use metamoran_bundle::RadarFile;
 use metamoran_bundle::capture::parse_radar_config;
+use metamoran_dsp::capture::IqOrder;
 use metamoran_process::summary::summarize;
 use std::path::Path;
 

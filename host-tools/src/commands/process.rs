@@ -61,10 +61,9 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         EdgeArg::Qemu => Runner::Qemu {
             firmware: locations.firmware()?,
             key: match &args.link_key {
-                Some(hex) => {
-                    dsp::wire::Key::from_hex(hex).map_err(|e| format!("--link-key: {e}"))?
-                }
-                None => dsp::wire::Key::new(&dsp::wire::DEV_KEY),
+                Some(hex) => metamoran_dsp::wire::Key::from_hex(hex)
+                    .map_err(|e| format!("--link-key: {e}"))?,
+                None => metamoran_dsp::wire::Key::new(&metamoran_dsp::wire::DEV_KEY),
             },
         },
     };

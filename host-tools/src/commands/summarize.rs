@@ -1,9 +1,9 @@
 //! `metamoran summarize`: range-profile peaks and moving targets of a bundle or a bare capture.
 
 use super::args::IqArg;
-use dsp::capture::IqOrder;
 use metamoran_bundle::capture::open_bare;
 use metamoran_bundle::{Bundle, OpenOptions, RadarFile};
+use metamoran_dsp::capture::IqOrder;
 use metamoran_process::summary::summarize;
 use std::path::{Path, PathBuf};
 
