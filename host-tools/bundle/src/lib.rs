@@ -76,6 +76,29 @@ impl Bundle {
     ///
     /// # Errors
     /// [`InputError`] naming the first file and field that break the format.
+    ///
+    /// # Example
+    /// A simulated parking lot (xWR18xx-like radar): its frames, their camera products and
+    /// their radar samples.
+    /// ```
+    /// use metamoran_bundle::{Bundle, OpenOptions};
+    /// use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
+    ///
+    /// let dir = tempfile::tempdir()?;
+    /// let written = simulate(Preset::ParkingLot, RadarKind::Xwr18xx, 7, 1, dir.path(), &|| ())?;
+    /// let mut bundle = Bundle::open(&written[0], OpenOptions::default())?;
+    /// assert!(bundle.frames() >= 1);
+    /// let camera = bundle.camera_frame(0)?;
+    /// assert!(!camera.instances.is_empty(), "the scene has objects of interest");
+    /// let mut samples = Vec::new();
+    /// bundle.read_radar_frame(0, &mut samples)?;
+    /// assert_eq!(samples.len(), bundle.scene.radar.samples_per_frame());
+    ///
+    /// std::fs::write(written[0].join("radar.bin"), b"too short")?;
+    /// let err = Bundle::open(&written[0], OpenOptions::default()).unwrap_err();
+    /// assert!(err.to_string().contains("radar.bin"), "{err}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn open(dir: &Path, options: OpenOptions) -> Result<Self, InputError> {
         if !dir.is_dir() {
             return Err(InputError::file(
