@@ -23,6 +23,9 @@ pub const RANGE_BINS: [(f64, f64); 5] = [
     (90.0, 300.0),
 ];
 
+/// A detection further than this from the truth, m, counts as confidently wrong.
+pub const CONFIDENTLY_WRONG_M: f64 = 3.0;
+
 /// One object in one frame under one mode.
 #[derive(Clone, Debug, Serialize)]
 pub struct Sample {
@@ -55,6 +58,9 @@ pub struct Stats {
     pub p90_m: Option<f64>,
     /// Fraction of detected objects off by more than 1 m.
     pub over_1m: Option<f64>,
+    /// Fraction of all objects reported detected yet more than [`CONFIDENTLY_WRONG_M`] off:
+    /// the answers a perimeter sensor must not give (an alert in the wrong zone).
+    pub confidently_wrong: f64,
     /// Median modified Hausdorff distance, m.
     pub mhd_m: Option<f64>,
 }
@@ -75,6 +81,8 @@ impl Stats {
             p90_m: quantile(&abs, 0.9),
             over_1m: (!abs.is_empty())
                 .then(|| abs.iter().filter(|&&e| e > 1.0).count() as f64 / abs.len() as f64),
+            confidently_wrong: abs.iter().filter(|&&e| e > CONFIDENTLY_WRONG_M).count() as f64
+                / s.len() as f64,
             mhd_m: median(&mhd),
         }
     }
@@ -262,8 +270,8 @@ impl std::fmt::Display for Report {
         }
         writeln!(
             f,
-            "\n{:<10} {:>10} {:>10} {:>10} {:>12}",
-            "method", "detected", "p90 m", "> 1 m", "median MHD m"
+            "\n{:<10} {:>10} {:>10} {:>10} {:>12} {:>18}",
+            "method", "detected", "p90 m", "> 1 m", "median MHD m", "detected, > 3 m"
         )?;
         for (name, r) in &self.modes {
             let a = &r.all;
@@ -278,16 +286,50 @@ impl std::fmt::Display for Report {
             };
             writeln!(
                 f,
-                "{name:<10} {:>10} {:>10} {:>10} {:>12}",
+                "{name:<10} {:>10} {:>10} {:>10} {:>12} {:>18}",
                 opt(Some(a.detection_rate), true),
                 opt(a.p90_m, false),
                 opt(a.over_1m, true),
-                opt(a.mhd_m, false)
+                opt(a.mhd_m, false),
+                opt(Some(a.confidently_wrong), true)
             )?;
         }
         for e in &self.failed {
             writeln!(f, "FAILED: {e}")?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Mode, Sample, Stats};
+
+    fn sample(error_m: Option<f64>) -> Sample {
+        Sample {
+            bundle: "b".into(),
+            mode: Mode::Metamoran,
+            class: "car".into(),
+            truth_m: 20.0,
+            error_m,
+            mhd_m: None,
+        }
+    }
+
+    #[test]
+    fn confidently_wrong_counts_detections_over_3_m_among_all_objects() {
+        let samples = [
+            sample(Some(0.1)),
+            sample(Some(5.0)),
+            sample(None),
+            sample(Some(-4.0)),
+            sample(Some(3.0)),
+        ];
+        let s = Stats::of(samples.iter());
+        assert_eq!(s.n, 5);
+        assert_eq!(s.detection_rate, 0.8);
+        // 5.0 and −4.0 are over 3 m; exactly 3.0 is not; the miss is not counted as wrong.
+        assert_eq!(s.confidently_wrong, 0.4);
+        assert_eq!(s.over_1m, Some(0.75));
     }
 }
