@@ -84,6 +84,7 @@ fn benches(c: &mut Criterion) {
         class: 0,
         span: (-0.06, 0.06),
         prior_m: 30.0,
+        window_m: (0.0, 0.0),
         contour: Contour::new((0..8).map(|i| (-0.05 + 0.012 * i as f32, 30.0 + 0.08 * i as f32))),
     };
     let mut g = c.benchmark_group("pipeline_8ch_256");

@@ -21,6 +21,7 @@ use crate::response::Geometry;
 use crate::search::Contour;
 use crate::search::depth::{self, SearchError, SearchResult};
 use crate::window::{self, WindowKind};
+use crate::wire::message::{ALTERNATIVES, Alternative};
 use crate::wire::message::{WirePoint, m_to_mm, q15_to_sin, sin_to_q15};
 use crate::wire::{Hint, ObjectResult};
 use core::fmt;
@@ -37,6 +38,8 @@ pub const DETECTION_RATIO: f32 = 6.0;
 /// `P(d*)` must also exceed the best score elsewhere (beyond the contour's depth extent) by this
 /// factor: two comparable explanations of the data mean the answer is a guess.
 pub const UNIQUENESS_RATIO: f32 = 1.3;
+/// Fewest range bins a camera window may leave to search; narrower windows are ignored.
+pub const MIN_WINDOW_BINS: f32 = 8.0;
 /// The search and SIC stay below this fraction of the unambiguous range (the IF filter's
 /// roll-off makes the last bins unreliable).
 pub const MAX_RANGE_FRACTION: f32 = 0.92;
@@ -52,6 +55,9 @@ pub struct ObjectHint {
     pub span: (f32, f32),
     /// Monocular range of the object's closest point, m (0 when unknown).
     pub prior_m: f32,
+    /// Near and far bound on that range from the camera's other cues (the mask's apparent
+    /// size), m; 0 where unknown. The search stays inside them.
+    pub window_m: (f32, f32),
     /// The contour.
     pub contour: Contour,
 }
@@ -78,6 +84,7 @@ impl ObjectHint {
             class: self.class,
             span: (sin_to_q15(self.span.0), sin_to_q15(self.span.1)),
             prior_mm: m_to_mm(self.prior_m),
+            window_mm: (m_to_mm(self.window_m.0), m_to_mm(self.window_m.1)),
             contour: self
                 .contour
                 .points()
@@ -97,6 +104,10 @@ impl ObjectHint {
             class: hint.class,
             span: (q15_to_sin(hint.span.0), q15_to_sin(hint.span.1)),
             prior_m: hint.prior_mm as f32 / 1000.0,
+            window_m: (
+                hint.window_mm.0 as f32 / 1000.0,
+                hint.window_mm.1 as f32 / 1000.0,
+            ),
             contour: Contour::new(
                 hint.contour
                     .iter()
@@ -116,18 +127,34 @@ impl ObjectReport {
             .iter()
             .min_by(|a, b| a.rel_range_m.total_cmp(&b.rel_range_m))
             .map_or(0.0, |p| p.sin_az);
+        let floor = self.search.floor.max(f32::MIN_POSITIVE);
+        let qdb = |peak: f32| {
+            let db = 10.0 * libm::log10f(peak.max(f32::MIN_POSITIVE) / floor);
+            libm::roundf(4.0 * db).clamp(0.0, 255.0) as u8
+        };
+        let over_floor_qdb = qdb(self.search.peak);
         let confidence = if self.detected() {
-            let db = 10.0 * libm::log10f(self.floor_ratio());
-            libm::roundf(4.0 * db).clamp(1.0, 255.0) as u8
+            over_floor_qdb.max(1)
         } else {
             0
         };
+        let mut others = [Alternative::default(); ALTERNATIVES];
+        for (o, c) in others.iter_mut().zip(&self.search.others) {
+            if c.peak > 0.0 {
+                *o = Alternative {
+                    depth_mm: m_to_mm(c.depth_m),
+                    over_floor_qdb: qdb(c.peak),
+                };
+            }
+        }
         ObjectResult {
             instance: self.id,
             class: self.class,
             depth_mm: m_to_mm(self.search.depth_m),
             sin_az: sin_to_q15(closest),
             confidence,
+            over_floor_qdb,
+            others,
         }
     }
 
@@ -429,15 +456,24 @@ impl Edge {
     }
 
     /// The range bins searched for `hint`: from [`PRIOR_FRACTION`] of its monocular range (bin 1
-    /// when unknown) to [`Edge::max_bin`].
+    /// when unknown) or the window's near bound, whichever is farther, to [`Edge::max_bin`] or
+    /// the window's far bound, whichever is nearer; the whole range beyond the first when the
+    /// window leaves fewer than [`MIN_WINDOW_BINS`].
     pub fn bins(&self, hint: &ObjectHint) -> (f32, f32) {
         let max_bin = self.max_bin() as f32;
-        let first = if hint.prior_m > 0.0 {
-            PRIOR_FRACTION * hint.prior_m / self.bin_m
+        let bin = |m: f32| m / self.bin_m;
+        let mut first = if hint.prior_m > 0.0 {
+            PRIOR_FRACTION * bin(hint.prior_m)
         } else {
             1.0
         };
-        // max/min rather than clamp: no panic path even for a radar too short to search.
+        let (near, far) = (bin(hint.window_m.0), bin(hint.window_m.1));
+        let last = if far > 0.0 { far.min(max_bin) } else { max_bin };
+        if near.max(first) + MIN_WINDOW_BINS <= last {
+            first = near.max(first);
+            // max/min rather than clamp: no panic path even for a radar too short to search.
+            return (first.max(1.0), last);
+        }
         (first.min(max_bin - 2.0).max(1.0), max_bin)
     }
 

@@ -119,6 +119,7 @@ fn pipeline_cancels_clutter_and_matches_brute_force() {
         class: 1,
         span: (-0.06, 0.06),
         prior_m: 5.0, // the search starts at 2 m, before the clutter
+        window_m: (0.0, 0.0),
         contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, (rr + 11.0) as f32))),
     };
     let mut scene = metamoran_dsp::pipeline::FrameScene::resume(
@@ -174,6 +175,7 @@ fn beam_domain_cancellation_equals_time_domain_subtraction() {
         class: 0,
         span: (-0.15, -0.05),
         prior_m: 0.0,
+        window_m: (0.0, 0.0),
         contour: Contour::new([(-0.1f32, 0.0f32)]),
     };
     let scene = metamoran_dsp::pipeline::FrameScene::resume(
@@ -267,4 +269,73 @@ fn bad_buffers_and_ranges_are_errors() {
         .is_err()
     );
     assert!(brute_force(&vec![C32::new(0.0, 0.0); 8 * N], &geo, &c, (5.0, 1.0)).is_err());
+}
+
+/// The object's shape twice in the same direction: a stronger copy at 2.0 m (an in-span
+/// reflector the camera's window rules out) and the object at 4.23 m.
+fn twin_scene() -> (Run, ObjectHint) {
+    let mut points: Vec<(f64, f64, f64)> =
+        SHAPE.iter().map(|&(s, r)| (4.23 + r, s, 150.0)).collect();
+    points.extend(SHAPE.iter().map(|&(s, r)| (2.0 + r, s, 400.0)));
+    let hint = ObjectHint {
+        id: 7,
+        class: 1,
+        span: (-0.06, 0.06),
+        prior_m: 0.0,
+        window_m: (0.0, 0.0),
+        contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, rr as f32))),
+    };
+    (run(&points), hint)
+}
+
+fn search(r: &mut Run, hint: &ObjectHint) -> metamoran_dsp::pipeline::ObjectReport {
+    let mut scene = metamoran_dsp::pipeline::FrameScene::resume(
+        &r.edge,
+        &mut r.arena,
+        r.exponent,
+        r.peaks.clone(),
+    )
+    .unwrap();
+    let mut scores = vec![0.0; r.edge.fft_len()];
+    r.edge.search(&mut scene, hint, &[], &mut scores).unwrap()
+}
+
+#[test]
+fn the_runner_up_explanation_is_reported_refined_and_distinct() {
+    let (mut r, hint) = twin_scene();
+    let found = search(&mut r, &hint);
+    let s = found.search;
+    assert!((s.depth_m - 2.0).abs() < 0.05, "{s:?}");
+    let other = s.others[0];
+    assert!((other.depth_m - 4.23).abs() < 0.05, "{s:?}");
+    assert!(other.peak > 0.0 && other.peak < s.peak && s.others[1].peak <= other.peak);
+    // Every alternative lies beyond the contour's extent + 2 bins from d* (6 + 2 bins here).
+    for o in s.others.iter().filter(|o| o.peak > 0.0) {
+        assert!((o.depth_bins - s.depth_bins).abs() > 8.0, "{s:?}");
+    }
+    // Its score is P at its depth: the brute-force reference over ±1 bin around it agrees.
+    let geo = r.edge.geometry();
+    let around = (other.depth_bins - 1.0, other.depth_bins + 1.25);
+    let reference = brute_force(&r.samples, &geo, &r.edge.contour(&hint), around).unwrap();
+    let step = 1.0 / FINE_STEPS_PER_BIN as f32;
+    assert!((reference.depth_bins - other.depth_bins).abs() <= step + 1e-4);
+    // The wire carries both, each with its height over the floor.
+    let wire = found.to_wire(&hint);
+    assert_eq!(
+        wire.others[0].depth_mm,
+        (other.depth_m * 1000.0).round() as u32
+    );
+    assert!(wire.over_floor_qdb > wire.others[0].over_floor_qdb);
+}
+
+#[test]
+fn the_camera_window_bounds_the_search() {
+    let (mut r, mut hint) = twin_scene();
+    hint.window_m = (3.5, 5.5);
+    assert_eq!(r.edge.bins(&hint), (35.0, 55.0));
+    let s = search(&mut r, &hint).search;
+    assert!((s.depth_m - 4.23).abs() < 0.05, "{s:?}");
+    // A window narrower than MIN_WINDOW_BINS is ignored.
+    hint.window_m = (4.0, 4.5);
+    assert_eq!(r.edge.bins(&hint).0, 1.0);
 }

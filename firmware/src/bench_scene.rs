@@ -103,6 +103,7 @@ pub fn hints() -> [ObjectHint; 4] {
             class: 1,
             span: (s - HALF_WIDTH, s + HALF_WIDTH),
             prior_m: r + 2.0,
+            window_m: (0.0, 0.0),
             contour: Contour::new((0..24).map(|k| {
                 let (ds, dr) = shape(-1.0 + 2.0 * k as f32 / 23.0);
                 (s + ds, r + 2.0 + dr)

@@ -321,6 +321,7 @@ fn search_workload() -> Outcome {
         class: 0,
         span: (-0.04, 0.04),
         prior_m: 0.0,
+        window_m: (0.0, 0.0),
         contour: Contour::new((0..4).map(|i| (-0.03 + 0.02 * i as f32, 5.0 + 0.05 * i as f32))),
     };
     let mut h = Fnv::default();

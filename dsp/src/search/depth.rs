@@ -36,6 +36,17 @@ const INTERP_WIDTH: usize = 2 * INTERP_HALF_WIDTH + 2;
 /// Fine points the refinement can visit: ±1 bin around each candidate.
 const FINE_POINTS: usize = CANDIDATES * (2 * FINE_STEPS_PER_BIN + 1);
 
+/// A local maximum of `P` refined on the fine grid: one explanation of the data.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Candidate {
+    /// Depth of the contour's closest point, range bins (fractional).
+    pub depth_bins: f32,
+    /// The same in metres.
+    pub depth_m: f32,
+    /// `P` there (0: no such candidate).
+    pub peak: f32,
+}
+
 /// The chosen depth and the evidence for it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SearchResult {
@@ -50,6 +61,10 @@ pub struct SearchResult {
     /// Best bin-grid score more than the contour's depth extent + 2 bins away from `d*`: a
     /// second explanation of the data (0 where none was computed).
     pub runner_up: f32,
+    /// The other refined candidates, each more than the contour's depth extent + 2 bins from
+    /// `d*` and from each other, strongest first (peak 0 where there are fewer): what a trust
+    /// test with other evidence (the camera's) can choose instead.
+    pub others: [Candidate; CANDIDATES - 1],
     /// Complex multiply-accumulates spent.
     pub macs: u64,
 }
@@ -173,6 +188,7 @@ pub fn brute_force(
         peak: best.0,
         floor: 0.0,
         runner_up: 0.0,
+        others: [Candidate::default(); CANDIDATES - 1],
         macs,
     })
 }
@@ -379,22 +395,25 @@ pub fn coarse_to_fine(
         }
     }
     macs += (k * win.len()) as u64;
-    // 3. Best coarse candidates (local maxima, strongest first), then P on the fine grid
-    //    around them.
+    // 3. Best coarse candidates: local maxima, strongest first, each more than `guard` bins
+    //    from a stronger one (distinct explanations), then P on the fine grid around them.
+    let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
     let mut cands: [Option<(usize, f32)>; CANDIDATES] = [None; CANDIDATES];
-    for (i, &v) in win.iter().enumerate() {
-        let left = i.checked_sub(1).and_then(|j| win.get(j));
-        let is_peak = left.is_none_or(|&l| l <= v) && win.get(i + 1).is_none_or(|&r| r <= v);
-        if !is_peak {
-            continue;
-        }
-        if let Some(slot) = cands.iter().position(|c| c.is_none_or(|(_, s)| s < v)) {
-            // Insert, shifting the weaker ones down (the weakest drops out).
-            let mut carry = Some((lo + i, v));
-            for c in cands.iter_mut().skip(slot) {
-                carry = core::mem::replace(c, carry);
+    for slot in 0..CANDIDATES {
+        let mut pick: Option<(usize, f32)> = None;
+        for (i, &v) in win.iter().enumerate() {
+            let left = i.checked_sub(1).and_then(|j| win.get(j));
+            let is_peak = left.is_none_or(|&l| l <= v) && win.get(i + 1).is_none_or(|&r| r <= v);
+            let d = lo + i;
+            let free = cands[..slot]
+                .iter()
+                .flatten()
+                .all(|&(c, _)| d.abs_diff(c) > guard);
+            if is_peak && free && pick.is_none_or(|(_, s)| s < v) {
+                pick = Some((d, v));
             }
         }
+        cands[slot] = pick;
     }
     // The fine points within ±1 bin of each candidate (strongest first), each listed once,
     // aligned with brute_force's grid from bins.0.
@@ -447,14 +466,35 @@ pub fn coarse_to_fine(
             }
         }
     }
-    let mut best = (f32::NEG_INFINITY, 0.0f32);
-    for (&s, &p) in steps.iter().zip(&power) {
-        if p > best.0 {
-            best = (p, bins.0 + s as f32 / fine);
+    // Each candidate's best fine point (its ±1 bin), then the strongest is d*.
+    let mut refined = [Candidate::default(); CANDIDATES];
+    for (r, &(cand, _)) in refined.iter_mut().zip(cands.iter().flatten()) {
+        let mut best = (f32::NEG_INFINITY, 0.0f32);
+        for (&s, &p) in steps.iter().zip(&power) {
+            let d = bins.0 + s as f32 / fine;
+            if libm::fabsf(d - cand as f32) <= 1.0 && p > best.0 {
+                best = (p, d);
+            }
+        }
+        if best.0 > 0.0 {
+            *r = Candidate {
+                depth_bins: best.1,
+                depth_m: best.1 * geo.bin_m,
+                peak: best.0,
+            };
         }
     }
+    // Strongest first (insertion sort of three: stable, no panic path).
+    for i in 1..CANDIDATES {
+        for j in (1..=i).rev() {
+            if refined[j - 1].peak < refined[j].peak {
+                refined.swap(j - 1, j);
+            }
+        }
+    }
+    let [first, others @ ..] = refined;
+    let best = (first.peak, first.depth_bins);
     // 4. The runner-up away from d*, then the floor: median coarse score over the searched range.
-    let guard = (contour.depth_extent() / geo.bin_m) as usize + 2;
     let centre = libm::roundf(best.1) as usize;
     let runner_up = (lo..)
         .zip(win.iter())
@@ -468,6 +508,7 @@ pub fn coarse_to_fine(
         peak: best.0,
         floor,
         runner_up,
+        others,
         macs,
     })
 }

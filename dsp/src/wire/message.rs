@@ -58,6 +58,9 @@ pub struct Hint {
     pub span: (i16, i16),
     /// Monocular range of the closest point, mm (0: unknown).
     pub prior_mm: u32,
+    /// The ranges of the closest point the camera's other cues allow (the mask's apparent
+    /// size), mm: near and far bound, each 0 where unknown.
+    pub window_mm: (u32, u32),
     /// The contour, at most [`MAX_CONTOUR`] points.
     pub contour: Vec<WirePoint, MAX_CONTOUR>,
 }
@@ -93,8 +96,33 @@ pub enum Downlink {
     Stop,
 }
 
+/// Another explanation of an object's data the depth search found: a depth and how far its
+/// score stands above the search floor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Alternative {
+    /// Depth of the object's closest point, mm (0: none).
+    pub depth_mm: u32,
+    /// Its score over the search floor in quarter dB (0 … 255, clamped).
+    pub over_floor_qdb: u8,
+}
+
+impl Alternative {
+    /// Depth in metres.
+    pub fn depth_m(&self) -> f64 {
+        self.depth_mm as f64 / 1000.0
+    }
+
+    /// Score over the search floor, dB.
+    pub fn over_floor_db(&self) -> f64 {
+        self.over_floor_qdb as f64 / 4.0
+    }
+}
+
+/// Alternatives a result carries besides its depth.
+pub const ALTERNATIVES: usize = 2;
+
 /// Uplink: the module's answer for one object, inside its frame's [`Uplink::Results`] (which
-/// carries the frame number once): at most 11 bytes on the wire for depths below 2 km.
+/// carries the frame number once): at most 20 bytes on the wire for depths below 2 km.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ObjectResult {
     /// Instance id.
@@ -105,9 +133,14 @@ pub struct ObjectResult {
     pub depth_mm: u32,
     /// `sin θ` of the closest contour point, Q15.
     pub sin_az: i16,
-    /// 0: not detected; otherwise the peak's height above the search floor in quarter dB
-    /// (1 … 255).
+    /// 0: not detected by the module's own test; otherwise the peak's height above the search
+    /// floor in quarter dB (1 … 255).
     pub confidence: u8,
+    /// The peak's height above the search floor in quarter dB whether detected or not (0 … 255).
+    pub over_floor_qdb: u8,
+    /// The search's other explanations, strongest first: the host weighs them against the
+    /// camera's evidence.
+    pub others: [Alternative; ALTERNATIVES],
 }
 
 impl ObjectResult {
@@ -198,6 +231,9 @@ pub enum Fault {
 
 /// Uplink messages.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+// Without an allocator there is nothing to box into: the module queues messages by value in
+// fixed capacity (each Results at most 16 × 28 bytes).
+#[allow(clippy::large_enum_variant)]
 pub enum Uplink {
     /// The module is up: protocol version and its limits.
     Hello {

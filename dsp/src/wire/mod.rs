@@ -18,9 +18,11 @@ pub mod receiver;
 
 pub use auth::{DEV_KEY, KEY_LEN, Key, KeyError, TAG_LEN};
 pub use frame::{EncodeError, MAX_WIRE, Sender, Stream};
-pub use message::{Downlink, Fault, FrameSummary, Health, Hint, LinkStats, ObjectResult, Uplink};
+pub use message::{
+    Alternative, Downlink, Fault, FrameSummary, Health, Hint, LinkStats, ObjectResult, Uplink,
+};
 pub use queue::DropOldest;
 pub use receiver::{Deframer, LinkError, Receiver};
 
 /// Protocol version: the first byte of every frame.
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
