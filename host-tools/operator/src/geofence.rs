@@ -263,6 +263,8 @@ impl Geofence {
     ///     azimuth_deg: Some(0.0),
     ///     points: Vec::new(),
     ///     confidence_db: Some(20.0),
+    ///     confidence: Some(0.97),
+    ///     evidence: None,
     /// };
     /// let alerts = fence.update(0, 0.0, &[person.clone()]);
     /// assert_eq!(alerts.len(), 1);
@@ -340,6 +342,8 @@ mod tests {
             azimuth_deg: Some(x.atan2(z).to_degrees()),
             points: Vec::new(),
             confidence_db: conf,
+            confidence: None,
+            evidence: None,
         }
     }
 

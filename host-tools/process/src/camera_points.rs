@@ -18,6 +18,35 @@ pub struct CameraObject {
     pub points: Vec<Point>,
     /// Azimuth span of the mask, radians (min, max); `None` for an empty mask.
     pub span: Option<(f64, f64)>,
+    /// Vertical extent of the mask; `None` for an empty mask.
+    pub extent: Option<VerticalExtent>,
+}
+
+/// How tall a mask looks: the slopes `y / √(x² + z²)` (y down, radar frame) of its highest and
+/// lowest pixel rays. An upright object `H` metres tall at horizontal range `r` spans
+/// `H / r` of slope, whatever the camera's pitch and roll.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VerticalExtent {
+    /// Slope of the highest pixel's ray.
+    pub top: f64,
+    /// Slope of the lowest pixel's ray.
+    pub bottom: f64,
+    /// Slope between adjacent pixel rows at the object (the quantization step).
+    pub pitch: f64,
+    /// The mask touches the image's top or bottom row: the object may continue beyond it.
+    pub clipped: bool,
+}
+
+impl VerticalExtent {
+    /// Slope the object spans: from the top of its highest pixel to the bottom of its lowest.
+    pub fn span(&self) -> f64 {
+        self.bottom - self.top + self.pitch
+    }
+}
+
+/// Slope of a ray `d` below the horizontal plane (y down): `d.y / √(d.x² + d.z²)`.
+fn slope(d: &Point) -> f64 {
+    d.y / d.x.hypot(d.z).max(1e-12)
 }
 
 /// Share of an object's points, nearest first, read as segmentation outliers (mask pixels that
@@ -82,6 +111,7 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
             class: i.class.clone(),
             points: Vec::new(),
             span: None,
+            extent: None,
         })
         .collect();
     out.sort_by_key(|o| o.instance);
@@ -96,6 +126,25 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
         let az = azimuth(&p);
         let o = &mut out[k];
         o.span = Some(o.span.map_or((az, az), |(lo, hi)| (lo.min(az), hi.max(az))));
+        let t = slope(&camera.ray(u, v).0);
+        let edge = v == 0 || v + 1 == frame.height;
+        o.extent = Some(match o.extent {
+            None => {
+                let below = camera.ray(u, v + 1).0;
+                VerticalExtent {
+                    top: t,
+                    bottom: t,
+                    pitch: (slope(&below) - t).abs(),
+                    clipped: edge,
+                }
+            }
+            Some(e) => VerticalExtent {
+                top: e.top.min(t),
+                bottom: e.bottom.max(t),
+                clipped: e.clipped || edge,
+                ..e
+            },
+        });
         if depth.is_some() {
             o.points.push(p);
         }
@@ -142,6 +191,7 @@ mod tests {
             class: "car".into(),
             points,
             span: Some((0.0, 0.0)),
+            extent: None,
         };
         // 111 points: the 2 % share skips index 0 and 1 (5 m, 20 m).
         assert_eq!(car.closest_range(), Some(20.04));

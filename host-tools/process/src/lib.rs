@@ -17,6 +17,7 @@ pub mod metamoran;
 pub mod monocular;
 pub mod naive;
 pub mod summary;
+pub mod trust;
 
 pub use error::ProcessError;
 
@@ -74,6 +75,13 @@ pub struct ObjectEstimate {
     /// not part of cli.md's JSON.
     #[serde(skip)]
     pub confidence_db: Option<f64>,
+    /// Probability that `depth_m` (or, when not detected, the best candidate) is within 1 m of
+    /// the truth, where the method computes one (the trust test of [`trust`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
+    /// What the trust test saw and chose, for `eval`; not part of the JSON.
+    #[serde(skip)]
+    pub evidence: Option<Box<(trust::Evidence, Option<trust::Verdict>)>>,
 }
 
 impl ObjectEstimate {
@@ -88,6 +96,8 @@ impl ObjectEstimate {
             azimuth_deg: azimuth.map(|a| (a.to_degrees() * 100.0).round() / 100.0),
             points: points.iter().map(|p| [mm(p.x), mm(p.y), mm(p.z)]).collect(),
             confidence_db: None,
+            confidence: None,
+            evidence: None,
         }
     }
 
@@ -101,6 +111,8 @@ impl ObjectEstimate {
             azimuth_deg: None,
             points: Vec::new(),
             confidence_db: None,
+            confidence: None,
+            evidence: None,
         }
     }
 }
@@ -268,6 +280,7 @@ fn metamoran_frame(
 ) -> Result<Vec<ObjectEstimate>, ProcessError> {
     let radar = &bundle.scene.radar;
     let moving = metamoran::MovingScene::new(radar, samples)?;
+    let beamwidth = metamoran::beamwidth_deg(&metamoran_dsp::array::VirtualArray::new(radar)?);
     let Some(q) = module else {
         let mut scene = metamoran::StaticScene::new(radar, samples)?;
         return Ok(objects
@@ -291,6 +304,7 @@ fn metamoran_frame(
                 &ObjectHint::from_wire(h),
                 results.next().flatten(),
                 moving.as_ref(),
+                beamwidth,
             ),
             None => ObjectEstimate::missed(o),
         })

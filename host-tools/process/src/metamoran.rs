@@ -5,6 +5,7 @@
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
+use crate::trust::{Candidate, Evidence};
 use metamoran_bundle::geometry::{Point, azimuth, range_xz};
 use metamoran_dsp::clutter::peaks::{MAX_PEAKS, Peak};
 use metamoran_dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
@@ -176,7 +177,7 @@ impl MovingScene {
     /// The Doppler spectra of the bin holding most energy toward `s_mid` from range bin `first`
     /// on, compensated for the TDM slot delays with the Doppler alias that makes the virtual
     /// array most coherent (12-TX TDM leaves ±1.4 m/s unambiguous, so fast movers alias).
-    fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> Vec<C32> {
+    fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> (usize, Vec<C32>) {
         let (m, nd, rx) = (self.m, self.spectra.len(), self.rx);
         let c = self.positions.len();
         let steer: Vec<C32> = self
@@ -207,16 +208,6 @@ impl MovingScene {
             .max_by(|&a, &b| incoherent(&self.spectra[a]).total_cmp(&incoherent(&self.spectra[b])))
             .unwrap_or(0);
         let sp = &self.spectra[q];
-        let qs = metamoran_dsp::units::signed_bin(q, nd) as f32;
-        let compensation = |alias: i32| -> Vec<C32> {
-            let f = (qs + (alias * nd as i32) as f32) / (nd * self.slots) as f32;
-            (0..c)
-                .map(|ch| {
-                    let a = -2.0 * std::f32::consts::PI * f * (ch / rx) as f32;
-                    C32::new(a.cos(), a.sin())
-                })
-                .collect()
-        };
         let coherent = |comp: &[C32]| -> f32 {
             (first..max_bin)
                 .map(|k| {
@@ -226,12 +217,29 @@ impl MovingScene {
                 .sum()
         };
         let alias = (-MAX_ALIAS..=MAX_ALIAS)
-            .max_by(|&a, &b| coherent(&compensation(a)).total_cmp(&coherent(&compensation(b))))
+            .max_by(|&a, &b| {
+                coherent(&self.compensation(q, a)).total_cmp(&coherent(&self.compensation(q, b)))
+            })
             .unwrap_or(0);
-        let comp = compensation(alias);
-        sp.iter()
+        let comp = self.compensation(q, alias);
+        let focused = sp
+            .iter()
             .enumerate()
             .map(|(i, &z)| z * comp[i / m])
+            .collect();
+        (q, focused)
+    }
+
+    /// The TDM slot phases of Doppler bin `q` taken `alias` unambiguous intervals further.
+    fn compensation(&self, q: usize, alias: i32) -> Vec<C32> {
+        let nd = self.spectra.len();
+        let qs = metamoran_dsp::units::signed_bin(q, nd) as f32;
+        let f = (qs + (alias * nd as i32) as f32) / (nd * self.slots) as f32;
+        (0..self.positions.len())
+            .map(|ch| {
+                let a = -2.0 * std::f32::consts::PI * f * (ch / self.rx) as f32;
+                C32::new(a.cos(), a.sin())
+            })
             .collect()
     }
 }
@@ -283,11 +291,13 @@ impl MovingScene {
         }))
     }
 
-    /// The depth search on the Doppler bin holding most energy at the object's azimuth.
-    fn search(&self, hint: &ObjectHint) -> Option<ObjectReport> {
+    /// The depth search on the Doppler bin holding most energy at the object's azimuth, as
+    /// the module would report it, without the candidates that are another direction's
+    /// reflection ([`Self::reflects_elsewhere`]).
+    fn search(&self, hint: &ObjectHint) -> Option<WireResult> {
         let bins = self.edge.bins(hint);
         let s_mid = (hint.span.0 + hint.span.1) / 2.0;
-        let focused = self.focused(s_mid, bins.0 as usize, bins.1 as usize);
+        let (q, focused) = self.focused(s_mid, bins.0 as usize, bins.1 as usize);
         let (words, exponent) = pack_elements(&self.edge, &focused, self.m);
         let spectra =
             Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
@@ -303,14 +313,87 @@ impl MovingScene {
             &mut scores,
         )
         .ok()?;
-        Some(ObjectReport {
+        let mut result = ObjectReport {
             id: hint.id,
             class: hint.class,
             search,
             cancelled: 0,
-        })
+        }
+        .to_wire(hint);
+        let bin_m = self.edge.geometry().bin_m as f64;
+        let elsewhere = |mm: u32| {
+            let bin = (mm as f64 / 1000.0 / bin_m).round() as usize;
+            self.reflects_elsewhere(q, bin, hint.span)
+        };
+        if elsewhere(result.depth_mm) {
+            result.depth_mm = 0;
+        }
+        for o in &mut result.others {
+            if o.depth_mm > 0 && elsewhere(o.depth_mm) {
+                *o = Default::default();
+            }
+        }
+        Some(result)
+    }
+
+    /// Whether the energy of Doppler bin `q` at range bin `bin` comes from outside the
+    /// sin-azimuth `span` widened by a beamwidth: focused with the Doppler alias that
+    /// concentrates it best (with TDM a wrong alias steers and spreads a beam), its strongest
+    /// direction lies outside and is [`ELSEWHERE_RATIO`] stronger than anything inside:
+    /// another mover's side lobes, which no SIC removes on this path.
+    /// O(aliases · 4·span · channels).
+    fn reflects_elsewhere(&self, q: usize, bin: usize, span: (f32, f32)) -> bool {
+        let Some(sp) = self.spectra.get(q).filter(|_| bin < self.m) else {
+            return false;
+        };
+        let span_len = self.edge.array().span().max(1) as f32;
+        let guard = 2.0 / span_len;
+        let steps = (4.0 * span_len) as usize;
+        let steer: Vec<Vec<C32>> = (0..=steps)
+            .map(|i| {
+                let s = -1.0 + 2.0 * i as f32 / steps as f32;
+                self.positions
+                    .iter()
+                    .map(|&p| {
+                        let a = -std::f32::consts::PI * p * s;
+                        C32::new(a.cos(), a.sin())
+                    })
+                    .collect()
+            })
+            .collect();
+        // Per alias: the strongest direction inside and outside; the alias that focuses the
+        // energy best decides.
+        let mut focus = (0.0f32, 0.0f32);
+        for alias in -MAX_ALIAS..=MAX_ALIAS {
+            let column: Vec<C32> = self
+                .compensation(q, alias)
+                .iter()
+                .enumerate()
+                .map(|(ch, &c)| sp[ch * self.m + bin] * c)
+                .collect();
+            let (mut inside, mut outside) = (0.0f32, 0.0f32);
+            for (i, st) in steer.iter().enumerate() {
+                let s = -1.0 + 2.0 * i as f32 / steps as f32;
+                let z: C32 = column.iter().zip(st).map(|(&x, &w)| x * w).sum();
+                let power = z.norm_sqr();
+                if s >= span.0 - guard && s <= span.1 + guard {
+                    inside = inside.max(power);
+                } else {
+                    outside = outside.max(power);
+                }
+            }
+            if inside.max(outside) > focus.0.max(focus.1) {
+                focus = (inside, outside);
+            }
+        }
+        let (inside, outside) = focus;
+        outside > ELSEWHERE_RATIO * inside
     }
 }
+
+/// How much stronger than inside an object's span the Doppler energy at a candidate's range must
+/// be elsewhere for the candidate to count as another direction's reflection (6 dB).
+pub const ELSEWHERE_RATIO: f32 = 4.0;
 
 /// Channel spectra (`channels × m`, `f32`) summed into the array's elements and quantized to
 /// packed Q15 words with one block exponent.
@@ -419,6 +502,7 @@ pub fn wire_hint(frame: u32, obj: &CameraObject) -> Option<Hint> {
         class: class_code(&obj.class),
         span: (lo.sin() as f32, hi.sin() as f32),
         prior_m: obj.closest_range().unwrap_or(0.0) as f32,
+        window_m: crate::trust::search_window_m(obj),
         contour: c,
     };
     Some(exact.to_wire(frame))
@@ -484,38 +568,77 @@ pub fn estimate(
         return ObjectEstimate::missed(obj);
     };
     let on_module = fast_search(scene, &p).ok().map(|r| r.to_wire(&p.hint));
-    merge(obj, &p.hint, on_module, moving)
+    merge(
+        obj,
+        &p.hint,
+        on_module,
+        moving,
+        beamwidth_deg(scene.edge.array()),
+    )
 }
 
 /// Combines the module's answer for `obj` (in process or from the edge; `hint` as the module
-/// received it) with the host's search
-/// on the Doppler bin holding most of the energy at the object's azimuth, where the frame has
-/// Doppler: the more confident of the two wins (confidence as the module reports it, so both
-/// edges give the same bits).
+/// received it) with the host's search on the Doppler bin holding most of the energy at the
+/// object's azimuth, where the frame has Doppler: every candidate depth of both goes to the
+/// trust test ([`crate::trust`]), which weighs them against the camera's cues (the same bits
+/// from either edge).
 pub fn merge(
     obj: &CameraObject,
     hint: &ObjectHint,
     on_module: Option<WireResult>,
     moving: Option<&MovingScene>,
+    beamwidth_deg: f64,
 ) -> ObjectEstimate {
-    let mut best = on_module;
-    if let Some(found) = moving
-        .and_then(|mv| mv.search(hint))
-        .map(|r| r.to_wire(hint))
-    {
-        if best.is_none_or(|b| found.confidence > b.confidence) {
-            best = Some(found);
-        }
-    }
-    match best {
-        Some(r) if r.detected() => {
-            let depth = r.depth_m();
-            let points = reject_edges(obj.anchored(depth));
+    let found = moving.and_then(|mv| mv.search(hint));
+    let evidence = Evidence {
+        candidates: on_module
+            .iter()
+            .flat_map(|r| candidates(r, false))
+            .chain(found.iter().flat_map(|r| candidates(r, true)))
+            .collect(),
+        monocular_m: obj.closest_range(),
+        height_m: obj
+            .extent
+            .and_then(|e| crate::trust::height_bounds_m(&obj.class, &e)),
+        beamwidth_deg,
+    };
+    let verdict = evidence.judge();
+    let mut estimate = match verdict {
+        Some(v) if v.detected() => {
+            let points = reject_edges(obj.anchored(v.depth_m));
             ObjectEstimate {
-                confidence_db: Some(r.confidence as f64 / 4.0),
-                ..ObjectEstimate::found(obj, depth, obj.median_azimuth(), points)
+                confidence_db: Some(v.features.over_floor_db),
+                ..ObjectEstimate::found(obj, v.depth_m, obj.median_azimuth(), points)
             }
         }
         _ => ObjectEstimate::missed(obj),
-    }
+    };
+    estimate.confidence = verdict.map(|v| (v.confidence * 1000.0).round() / 1000.0);
+    estimate.evidence = Some(Box::new((evidence, verdict)));
+    estimate
+}
+
+/// The array's azimuth beamwidth at boresight, degrees (2 / aperture in sin θ).
+pub fn beamwidth_deg(array: &metamoran_dsp::array::VirtualArray) -> f64 {
+    (2.0 / array.span().max(1) as f64).asin().to_degrees()
+}
+
+/// The candidate depths of one answer (of the Doppler path if `doppler`): its depth, then its
+/// alternatives.
+fn candidates(r: &WireResult, doppler: bool) -> impl Iterator<Item = Candidate> + '_ {
+    let best = Candidate {
+        depth_m: r.depth_m(),
+        over_floor_db: r.over_floor_qdb as f64 / 4.0,
+        doppler,
+    };
+    let others = r
+        .others
+        .iter()
+        .filter(|a| a.depth_mm > 0)
+        .map(move |a| Candidate {
+            depth_m: a.depth_m(),
+            over_floor_db: a.over_floor_db(),
+            doppler,
+        });
+    (r.depth_mm > 0).then_some(best).into_iter().chain(others)
 }

@@ -22,6 +22,10 @@ pub struct Args {
     /// Print JSON instead of tables.
     #[arg(long)]
     json: bool,
+    /// Also write every object's sample (error, confidence, the trust test's evidence) to this
+    /// JSON file: the input of `scripts/calibrate-trust.py`.
+    #[arg(long, value_name = "FILE")]
+    samples: Option<PathBuf>,
 }
 
 /// Runs `metamoran eval`.
@@ -33,8 +37,13 @@ pub fn run(args: &Args) -> super::Result {
     let bundles = metamoran_process::eval::bundles_in(&args.dir)?.len() as u64;
     let bar = super::progress::bar(bundles, "bundles", !args.json);
     bar.set_message("evaluating");
-    let (report, _) = metamoran_process::eval::run(&args.dir, &modes, &|| bar.inc(1))?;
+    let (report, samples) = metamoran_process::eval::run(&args.dir, &modes, &|| bar.inc(1))?;
     bar.finish_and_clear();
+    if let Some(path) = &args.samples {
+        let text = serde_json::to_string(&samples)?;
+        std::fs::write(path, text)
+            .map_err(|e| format!("cannot write the samples to {}: {e}", path.display()))?;
+    }
     super::print(&report, args.json)?;
     if report.failed.is_empty() {
         Ok(())

@@ -41,6 +41,14 @@ pub struct Sample {
     pub error_m: Option<f64>,
     /// Modified Hausdorff distance to the truth points, m.
     pub mhd_m: Option<f64>,
+    /// The method's confidence that its depth is within 1 m, where it gives one.
+    pub confidence: Option<f64>,
+    /// Signed error of the depth the confidence is about (the chosen candidate, detected or
+    /// not), m.
+    pub judged_error_m: Option<f64>,
+    /// What the trust test saw (the calibration's input: `eval --samples`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub evidence: Option<crate::trust::Evidence>,
 }
 
 /// Statistics of a group of samples.
@@ -88,11 +96,66 @@ impl Stats {
     }
 }
 
+/// Edges of the reliability table's confidence bins.
+pub const RELIABILITY_EDGES: [f64; 6] = [0.0, 0.2, 0.5, 0.8, 0.95, 1.0];
+
+/// One row of a reliability table: objects whose confidence fell in `[lo, hi)`, and how often
+/// their depth was within 1 m.
+#[derive(Clone, Debug, Serialize)]
+pub struct Reliability {
+    /// Lower edge of the confidence bin.
+    pub lo: f64,
+    /// Upper edge (the last bin includes 1).
+    pub hi: f64,
+    /// Objects in the bin.
+    pub n: usize,
+    /// Their mean confidence (predicted).
+    pub predicted: Option<f64>,
+    /// Fraction whose judged depth was within 1 m (observed).
+    pub observed: Option<f64>,
+}
+
+/// The reliability table of `samples` that carry a confidence (empty when none does).
+pub fn reliability<'a>(samples: impl Iterator<Item = &'a Sample> + Clone) -> Vec<Reliability> {
+    let judged = samples.filter_map(|s| Some((s.confidence?, s.judged_error_m?)));
+    if judged.clone().next().is_none() {
+        return Vec::new();
+    }
+    RELIABILITY_EDGES
+        .windows(2)
+        .map(|w| {
+            let (lo, hi) = (w[0], w[1]);
+            let last = hi >= 1.0;
+            let inside: Vec<(f64, f64)> = judged
+                .clone()
+                .filter(|&(c, _)| c >= lo && (c < hi || (last && c <= hi)))
+                .collect();
+            let n = inside.len();
+            let mean = |v: Vec<f64>| (n > 0).then(|| v.iter().sum::<f64>() / n as f64);
+            Reliability {
+                lo,
+                hi,
+                n,
+                predicted: mean(inside.iter().map(|x| x.0).collect()),
+                observed: mean(
+                    inside
+                        .iter()
+                        .map(|x| f64::from(u8::from(x.1.abs() <= 1.0)))
+                        .collect(),
+                ),
+            }
+        })
+        .collect()
+}
+
 /// The report of one mode.
 #[derive(Clone, Debug, Serialize)]
 pub struct ModeReport {
     /// All objects.
     pub all: Stats,
+    /// Confidence against outcome, for methods that give a confidence.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub reliability: Vec<Reliability>,
     /// Per class.
     pub by_class: BTreeMap<String, Stats>,
     /// Per range bin ("0-20", …).
@@ -157,6 +220,7 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, ProcessError> {
                     .and_then(|o| o.detected.then_some(o.depth_m).flatten())
                     .map(|d| d - t.depth_m);
                 let mhd_m = est.and_then(|o| modified_hausdorff(&o.points, &t.points));
+                let judged = est.and_then(|o| o.evidence.as_deref());
                 samples.push(Sample {
                     bundle: bundle.clone(),
                     mode,
@@ -164,6 +228,11 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, ProcessError> {
                     truth_m: t.depth_m,
                     error_m,
                     mhd_m,
+                    confidence: est.and_then(|o| o.confidence),
+                    judged_error_m: judged
+                        .and_then(|(_, v)| v.as_ref())
+                        .map(|v| v.depth_m - t.depth_m),
+                    evidence: judged.map(|(e, _)| e.clone()),
                 });
             }
         }
@@ -221,6 +290,7 @@ pub fn run(
             mode.name().to_owned(),
             ModeReport {
                 all: Stats::of(of_mode()),
+                reliability: reliability(of_mode()),
                 by_class,
                 by_range,
             },
@@ -294,6 +364,24 @@ impl std::fmt::Display for Report {
                 opt(Some(a.confidently_wrong), true)
             )?;
         }
+        for (name, r) in self.modes.iter().filter(|(_, r)| !r.reliability.is_empty()) {
+            writeln!(
+                f,
+                "\n{name}: reliability (confidence that the depth is within 1 m)\n{:<12} {:>5} {:>10} {:>10}",
+                "confidence", "n", "predicted", "observed"
+            )?;
+            for b in &r.reliability {
+                let pct = |v: Option<f64>| v.map_or("—".into(), |x| format!("{:.0}%", 100.0 * x));
+                writeln!(
+                    f,
+                    "{:<12} {:>5} {:>10} {:>10}",
+                    format!("{:.2}–{:.2}", b.lo, b.hi),
+                    b.n,
+                    pct(b.predicted),
+                    pct(b.observed)
+                )?;
+            }
+        }
         for e in &self.failed {
             writeln!(f, "FAILED: {e}")?;
         }
@@ -313,6 +401,9 @@ mod tests {
             truth_m: 20.0,
             error_m,
             mhd_m: None,
+            confidence: None,
+            judged_error_m: None,
+            evidence: None,
         }
     }
 

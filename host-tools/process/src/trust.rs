@@ -1,0 +1,348 @@
+//! The host's trust test: which of the module's depth candidates the camera supports, and how
+//! likely that depth is to be right. It sits after the module's search (which sees only the
+//! radar) and before depth imaging:
+//!
+//! ```text
+//! module: candidates (depth, dB over floor) ─┐
+//! camera: monocular range, mask height ──────┴▶ choose ─▶ confidence = P(|error| ≤ 1 m) ─▶ detected?
+//! ```
+//!
+//! Two camera cues weigh each candidate: the monocular range, whose error grows with range
+//! (Table I of the paper, and faster past 60 m), and the mask's apparent height against the
+//! class's height range, which bounds the range independently of the monocular network. The
+//! confidence is a logistic function of the chosen candidate's evidence, its coefficients fitted
+//! on simulated scenes of other seeds (`scripts/calibrate-trust.py`); `metamoran eval` shows its
+//! reliability on fresh ones.
+
+use crate::camera_points::{CameraObject, VerticalExtent};
+use serde::Serialize;
+
+/// Nats of camera log-prior one dB of radar score is worth when candidates are compared.
+pub const RADAR_NATS_PER_DB: f64 = 0.15;
+/// Nats a candidate of the Doppler path gains over a static one: a reflection that moves and
+/// survives the check against other directions is rarely clutter.
+pub const DOPPLER_NATS: f64 = 6.0;
+/// A depth is reported as detected when its confidence reaches this probability.
+pub const DETECTION_CONFIDENCE: f64 = 0.8;
+/// Relative spread of the height bound's log penalty beyond the far bound (a mask can look no
+/// smaller than the whole object but for segmentation error, already in the bound).
+const FAR_SPREAD: f64 = 0.05;
+/// The same below the near bound: an occluded or truncated mask looks smaller, so farther.
+const NEAR_SPREAD: f64 = 0.1;
+/// Pixel rows a mask's height may be off by (segmentation growing or shrinking it by a pixel
+/// at each end, and a pixel of rasterization).
+pub const ROWS_OFF: f64 = 3.0;
+/// Vagueness of a camera that gives no height bounds (a range ratio of e³ ≈ 20).
+pub const VAGUE: f64 = 3.0;
+/// Margin given to a candidate that has no rival, nats.
+const NO_RIVAL_MARGIN: f64 = 8.0;
+
+/// Logistic coefficients of the confidence: bias, then [`Features`] in order.
+pub const COEFFICIENTS: [f64; 7] = [4.0896, -0.0345, 0.4515, 0.4714, 13.1805, -0.1454, -0.8564];
+
+/// Height range of an object of `class`, m: what a mask's vertical extent is measured against.
+/// `None` for classes without one.
+pub fn class_height_m(class: &str) -> Option<(f64, f64)> {
+    match class {
+        "car" => Some((1.4, 1.6)),
+        "person" => Some((1.5, 1.9)),
+        "sign" => Some((0.6, 0.9)),
+        _ => None,
+    }
+}
+
+/// The horizontal ranges (m) at which an object of `class` would look as tall as `extent`:
+/// the class's height range over the mask's slope span, ± [`ROWS_OFF`] pixel rows of
+/// segmentation error.
+/// A mask cut by the image's edge gives only the far bound (near is 0).
+pub fn height_bounds_m(class: &str, extent: &VerticalExtent) -> Option<(f64, f64)> {
+    let (h_lo, h_hi) = class_height_m(class)?;
+    let span = extent.span();
+    if !(span.is_finite() && extent.pitch.is_finite()) || span <= 0.0 {
+        return None;
+    }
+    let near = if extent.clipped {
+        0.0
+    } else {
+        h_lo / (span + ROWS_OFF * extent.pitch)
+    };
+    let far = h_hi / (span - ROWS_OFF * extent.pitch).max(extent.pitch);
+    Some((near, far))
+}
+
+/// Margin around the height bounds of the window the module searches: the height cue's far
+/// bound is off by 8 % at most on our scenes, its near bound only when the mask is occluded.
+pub const WINDOW_MARGIN: (f64, f64) = (0.8, 1.25);
+
+/// The ranges (m) the module searches for `obj`: its height bounds widened by
+/// [`WINDOW_MARGIN`]; 0 where unknown (the module then searches from its monocular prior to
+/// its maximum range).
+pub fn search_window_m(obj: &CameraObject) -> (f32, f32) {
+    obj.extent
+        .and_then(|e| height_bounds_m(&obj.class, &e))
+        .map_or((0.0, 0.0), |(near, far)| {
+            (
+                (near * WINDOW_MARGIN.0) as f32,
+                (far * WINDOW_MARGIN.1) as f32,
+            )
+        })
+}
+
+/// Median absolute error of monocular depth at range `r` m: Table I of the paper (0.6 m at
+/// 0–20 m, 6.75 m at 20–40 m, 19.4 m at 40–60 m, placed at the bins' centres), then growing
+/// on at the 30–50 m slope (0.63 m per m; 177 m at 300 m).
+pub fn monocular_error_m(r: f64) -> f64 {
+    const KNOTS: [(f64, f64); 4] = [(0.0, 0.3), (10.0, 0.6), (30.0, 6.75), (50.0, 19.4)];
+    const SLOPE: f64 = (19.4 - 6.75) / 20.0;
+    for w in KNOTS.windows(2) {
+        let ((r0, e0), (r1, e1)) = (w[0], w[1]);
+        if r <= r1 {
+            return e0 + (e1 - e0) * (r - r0).max(0.0) / (r1 - r0);
+        }
+    }
+    19.4 + SLOPE * (r - 50.0)
+}
+
+/// One depth the module's search offers.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Candidate {
+    /// Depth, m.
+    pub depth_m: f64,
+    /// Its score over the search floor, dB.
+    pub over_floor_db: f64,
+    /// Found on the Doppler path (static clutter removed): a mover's reflection.
+    pub doppler: bool,
+}
+
+/// What the trust test knows about one object.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Evidence {
+    /// The module's candidates, its own choice first.
+    pub candidates: Vec<Candidate>,
+    /// Monocular range of the closest point, m.
+    pub monocular_m: Option<f64>,
+    /// Range bounds from the mask's height, m.
+    pub height_m: Option<(f64, f64)>,
+    /// The radar's azimuth beamwidth, degrees: a wide beam holds more clutter in an object's
+    /// span, so the same evidence is worth less.
+    pub beamwidth_deg: f64,
+}
+
+/// The chosen candidate's evidence, the inputs of the confidence.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Features {
+    /// Radar score over the search floor, dB.
+    pub over_floor_db: f64,
+    /// Lead of the chosen candidate's score over the best rival's, nats (capped).
+    pub margin: f64,
+    /// Monocular log-prior (≤ 0).
+    pub monocular: f64,
+    /// Height log-prior (≤ 0).
+    pub height: f64,
+    /// The radar's azimuth beamwidth, degrees.
+    pub beamwidth_deg: f64,
+    /// How little the camera pins the range down: the log ratio of the height bounds (capped
+    /// at [`VAGUE`], its value without bounds).
+    pub vagueness: f64,
+}
+
+/// The trust test's answer for one object.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Verdict {
+    /// Chosen depth, m.
+    pub depth_m: f64,
+    /// Probability that the depth is within 1 m of the truth.
+    pub confidence: f64,
+    /// What the confidence was computed from.
+    pub features: Features,
+}
+
+impl Verdict {
+    /// Whether the depth is trusted: [`DETECTION_CONFIDENCE`] or more.
+    pub fn detected(&self) -> bool {
+        self.confidence >= DETECTION_CONFIDENCE
+    }
+}
+
+impl Evidence {
+    /// Monocular log-prior of depth `d` m: Laplace around the monocular range with the median
+    /// error at the larger of the two.
+    fn monocular(&self, d: f64) -> f64 {
+        self.monocular_m.map_or(0.0, |m| {
+            let b = monocular_error_m(d.max(m)) / std::f64::consts::LN_2;
+            -(d - m).abs() / b
+        })
+    }
+
+    /// Height log-prior of depth `d` m: 0 inside the bounds, log-distance beyond.
+    fn height(&self, d: f64) -> f64 {
+        match self.height_m {
+            Some((_, far)) if d > far => -(d / far).ln() / FAR_SPREAD,
+            Some((near, _)) if d < near => -(near / d.max(1e-3)).ln() / NEAR_SPREAD,
+            _ => 0.0,
+        }
+    }
+
+    /// Radar score plus camera log-prior of candidate `c`.
+    fn score(&self, c: &Candidate) -> f64 {
+        let doppler = if c.doppler { DOPPLER_NATS } else { 0.0 };
+        RADAR_NATS_PER_DB * c.over_floor_db
+            + doppler
+            + self.monocular(c.depth_m)
+            + self.height(c.depth_m)
+    }
+
+    /// The candidate the radar and the camera together support best, with its confidence;
+    /// `None` without candidates. O(candidates).
+    pub fn judge(&self) -> Option<Verdict> {
+        let scored: Vec<(f64, &Candidate)> =
+            self.candidates.iter().map(|c| (self.score(c), c)).collect();
+        let (i, &(best, chosen)) = scored
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.0.total_cmp(&b.1.0))?;
+        let rival = scored
+            .iter()
+            .enumerate()
+            .filter(|&(j, (_, c))| j != i && (c.depth_m - chosen.depth_m).abs() > 1.0)
+            .map(|(_, &(s, _))| s)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let features = Features {
+            over_floor_db: chosen.over_floor_db,
+            margin: (best - rival).min(NO_RIVAL_MARGIN),
+            monocular: self.monocular(chosen.depth_m),
+            height: self.height(chosen.depth_m),
+            beamwidth_deg: self.beamwidth_deg,
+            vagueness: self
+                .height_m
+                .map_or(VAGUE, |(near, far)| (far / near.max(1e-3)).ln().min(VAGUE)),
+        };
+        Some(Verdict {
+            depth_m: chosen.depth_m,
+            confidence: confidence(&features),
+            features,
+        })
+    }
+}
+
+/// The logistic confidence of [`COEFFICIENTS`].
+pub fn confidence(f: &Features) -> f64 {
+    let [b, w_db, w_margin, w_mono, w_height, w_beam, w_vague] = COEFFICIENTS;
+    let z = b
+        + w_db * f.over_floor_db
+        + w_margin * f.margin
+        + w_mono * f.monocular
+        + w_height * f.height
+        + w_beam * f.beamwidth_deg
+        + w_vague * f.vagueness;
+    1.0 / (1.0 + (-z).exp())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A person 1.7 m tall at horizontal range 40 m, level camera with fy = 1000 px.
+    fn person_at_40m() -> VerticalExtent {
+        let pitch = 1e-3;
+        // Pixel centres from the top row to the bottom row: 1.7 / 40 of slope minus a pixel.
+        VerticalExtent {
+            top: -0.02,
+            bottom: -0.02 + 1.7 / 40.0 - pitch,
+            pitch,
+            clipped: false,
+        }
+    }
+
+    #[test]
+    fn height_bounds_follow_the_closed_form() {
+        let e = person_at_40m();
+        let (near, far) = height_bounds_m("person", &e).unwrap();
+        let span = 1.7 / 40.0;
+        assert!((near - 1.5 / (span + 3e-3)).abs() < 1e-9, "{near}");
+        assert!((far - 1.9 / (span - 3e-3)).abs() < 1e-9, "{far}");
+        assert!(near < 40.0 && far > 40.0);
+        // A mask cut by the image's edge bounds only the far side.
+        let cut = VerticalExtent { clipped: true, ..e };
+        assert_eq!(height_bounds_m("person", &cut).unwrap().0, 0.0);
+        assert_eq!(height_bounds_m("tree", &e), None);
+    }
+
+    #[test]
+    fn monocular_error_follows_table_one_and_keeps_growing() {
+        assert!((monocular_error_m(10.0) - 0.6).abs() < 1e-12);
+        assert!((monocular_error_m(30.0) - 6.75).abs() < 1e-12);
+        assert!((monocular_error_m(50.0) - 19.4).abs() < 1e-12);
+        assert!(
+            (monocular_error_m(50.0 + 1e-9) - 19.4).abs() < 1e-6,
+            "continuous"
+        );
+        assert!((monocular_error_m(300.0) - (19.4 + 0.6325 * 250.0)).abs() < 1e-9);
+    }
+
+    fn candidate(depth_m: f64, over_floor_db: f64) -> Candidate {
+        Candidate {
+            depth_m,
+            over_floor_db,
+            doppler: false,
+        }
+    }
+
+    /// Issue #17's example: a sign at 40.6 m whose span holds a wall's side-lobe ridge at
+    /// 29.4 m that scores higher.
+    fn sign_behind_a_ridge(height_m: Option<(f64, f64)>) -> Evidence {
+        Evidence {
+            candidates: vec![candidate(29.4, 22.5), candidate(40.6, 20.0)],
+            monocular_m: Some(34.0),
+            height_m,
+            beamwidth_deg: 1.33,
+        }
+    }
+
+    #[test]
+    fn the_mask_height_overrules_a_stronger_ridge_at_the_wrong_range() {
+        // A 0.6–0.9 m plate 15 px tall at fy = 1000: 40–60 m.
+        let v = sign_behind_a_ridge(Some((37.0, 62.0))).judge().unwrap();
+        assert_eq!(v.depth_m, 40.6);
+        assert!(v.features.margin > 1.0 && v.detected(), "{v:?}");
+        // Without the height cue, the radar's choice stands but is not trusted: the monocular
+        // prior cannot tell 29.4 from 40.6 at this range.
+        let blind = sign_behind_a_ridge(None).judge().unwrap();
+        assert_eq!(blind.depth_m, 29.4);
+        assert!(!blind.detected(), "{blind:?}");
+        assert!(v.confidence > blind.confidence);
+    }
+
+    #[test]
+    fn confidence_grows_with_the_lead_over_the_rival() {
+        let mut f = Features {
+            over_floor_db: 30.0,
+            margin: 0.0,
+            monocular: 0.0,
+            height: 0.0,
+            beamwidth_deg: 1.33,
+            vagueness: 0.5,
+        };
+        let mut last = 0.0;
+        for m in [0.0, 1.0, 2.0, 4.0, 8.0] {
+            f.margin = m;
+            let c = confidence(&f);
+            assert!(c > last && c < 1.0, "{m}: {c}");
+            last = c;
+        }
+        // A depth the mask's height rules out is not trusted however strong the radar peak.
+        f.height = -(1.3f64).ln() / FAR_SPREAD;
+        assert!(confidence(&f) < DETECTION_CONFIDENCE);
+    }
+
+    #[test]
+    fn no_candidates_no_verdict() {
+        let e = Evidence {
+            candidates: Vec::new(),
+            monocular_m: None,
+            height_m: None,
+            beamwidth_deg: 1.33,
+        };
+        assert_eq!(e.judge(), None);
+    }
+}

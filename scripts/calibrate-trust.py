@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Fits the trust test's constants (host-tools/process/src/trust.rs) on `eval --samples` files.
+
+    metamoran simulate --preset parking-lot --radar cascade --seed 7101 --count 40 --out t/pl-c
+    ...   (the sets in README.md, "Trust test")
+    metamoran eval t/pl-c --modes metamoran --samples t/pl-c.json
+    python3 scripts/calibrate-trust.py t/*.json
+
+It re-implements the candidate score of trust.rs (radar dB plus the camera's log-priors), picks
+RADAR_NATS_PER_DB on a grid to maximise the share of objects whose chosen depth is within 1 m,
+then fits the logistic COEFFICIENTS (bias, dB, margin, monocular, height, beamwidth, vagueness) by Newton's method with
+a small ridge, and prints both to paste into trust.rs. numpy only.
+"""
+import json
+import math
+import sys
+
+import numpy as np
+
+FAR_SPREAD, NEAR_SPREAD, NO_RIVAL_MARGIN, VAGUE = 0.05, 0.1, 8.0, 3.0
+KNOTS = [(0.0, 0.3), (10.0, 0.6), (30.0, 6.75), (50.0, 19.4)]
+
+
+def mono_error(r):
+    for (r0, e0), (r1, e1) in zip(KNOTS, KNOTS[1:]):
+        if r <= r1:
+            return e0 + (e1 - e0) * max(r - r0, 0.0) / (r1 - r0)
+    return 19.4 + (19.4 - 6.75) / 20.0 * (r - 50.0)
+
+
+def mono(ev, d):
+    m = ev.get("monocular_m")
+    if m is None:
+        return 0.0
+    return -abs(d - m) / (mono_error(max(d, m)) / math.log(2))
+
+
+def height(ev, d):
+    h = ev.get("height_m")
+    if h is None:
+        return 0.0
+    near, far = h
+    if d > far:
+        return -math.log(d / far) / FAR_SPREAD
+    if d < near:
+        return -math.log(near / max(d, 1e-3)) / NEAR_SPREAD
+    return 0.0
+
+
+def judge(ev, beta, bonus=0.0):
+    scored = [
+        (
+            beta * c["over_floor_db"]
+            + (bonus if c.get("doppler") else 0.0)
+            + mono(ev, c["depth_m"])
+            + height(ev, c["depth_m"]),
+            c,
+        )
+        for c in ev["candidates"]
+    ]
+    if not scored:
+        return None
+    i = max(range(len(scored)), key=lambda k: scored[k][0])
+    best, chosen = scored[i]
+    rivals = [
+        s for j, (s, c) in enumerate(scored) if j != i and abs(c["depth_m"] - chosen["depth_m"]) > 1.0
+    ]
+    margin = min(best - max(rivals), NO_RIVAL_MARGIN) if rivals else NO_RIVAL_MARGIN
+    feats = [
+        chosen["over_floor_db"],
+        margin,
+        mono(ev, chosen["depth_m"]),
+        height(ev, chosen["depth_m"]),
+        ev["beamwidth_deg"],
+        min(math.log(h[1] / max(h[0], 1e-3)), VAGUE) if (h := ev.get("height_m")) else VAGUE,
+    ]
+    return chosen["depth_m"], feats
+
+
+def main(paths):
+    samples = [s for p in paths for s in json.load(open(p)) if s.get("evidence")]
+    print(f"{len(samples)} objects with evidence from {len(paths)} files")
+    best_beta, best_bonus, best_ok = None, None, -1
+    for beta in [0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.7, 1.0]:
+        for bonus in [0.0, 1.0, 2.0, 3.0, 4.0, 6.0]:
+            ok = 0
+            for s in samples:
+                j = judge(s["evidence"], beta, bonus)
+                ok += j is not None and abs(j[0] - s["truth_m"]) <= 1.0
+            print(f"  RADAR_NATS_PER_DB {beta:5.2f} DOPPLER_NATS {bonus}: within 1 m for {ok}")
+            if ok > best_ok:
+                best_beta, best_bonus, best_ok = beta, bonus, ok
+    rows, labels = [], []
+    for s in samples:
+        j = judge(s["evidence"], best_beta, best_bonus)
+        if j is None:
+            continue
+        rows.append([1.0] + j[1])
+        labels.append(1.0 if abs(j[0] - s["truth_m"]) <= 1.0 else 0.0)
+    x, y = np.array(rows), np.array(labels)
+    w = np.zeros(x.shape[1])
+    ridge = 1e-2 * np.eye(x.shape[1])
+    ridge[0, 0] = 0.0
+    for _ in range(50):
+        p = 1.0 / (1.0 + np.exp(-x @ w))
+        grad = x.T @ (p - y) + ridge @ w
+        hess = x.T @ (x * (p * (1 - p))[:, None]) + ridge
+        w -= np.linalg.solve(hess, grad)
+    p = 1.0 / (1.0 + np.exp(-x @ w))
+    print(f"RADAR_NATS_PER_DB = {best_beta}")
+    print(f"DOPPLER_NATS = {best_bonus}")
+    print("COEFFICIENTS = [" + ", ".join(f"{v:.4f}" for v in w) + "]")
+    print(f"log-loss {-np.mean(y * np.log(p + 1e-12) + (1 - y) * np.log(1 - p + 1e-12)):.4f}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
