@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-FAR_SPREAD, NEAR_SPREAD, NO_RIVAL_MARGIN, VAGUE = 0.05, 0.1, 8.0, 3.0
+FAR_SPREAD, NEAR_SPREAD, NO_RIVAL_MARGIN, VAGUE, MIN_DOPPLER_DB = 0.05, 0.1, 8.0, 3.0, 20.0
 KNOTS = [(0.0, 0.3), (10.0, 0.6), (30.0, 6.75), (50.0, 19.4)]
 
 
@@ -57,22 +57,22 @@ def judge(ev, beta, bonus=0.0):
             c,
         )
         for c in ev["candidates"]
+        if not c.get("doppler") or c["over_floor_db"] >= MIN_DOPPLER_DB
     ]
     if not scored:
         return None
-    i = max(range(len(scored)), key=lambda k: scored[k][0])
-    best, chosen = scored[i]
-    rivals = [
-        s for j, (s, c) in enumerate(scored) if j != i and abs(c["depth_m"] - chosen["depth_m"]) > 1.0
-    ]
-    margin = min(best - max(rivals), NO_RIVAL_MARGIN) if rivals else NO_RIVAL_MARGIN
+    best, chosen = max(scored, key=lambda sc: sc[0])
+    same = sum(math.exp(s - best) for s, c in scored if abs(c["depth_m"] - chosen["depth_m"]) <= 1.0)
+    rest = sum(math.exp(s - best) for s, _ in scored) - same
+    margin = min(math.log(same / rest), NO_RIVAL_MARGIN) if rest > 0 else NO_RIVAL_MARGIN
+    h = ev.get("height_m")
     feats = [
         chosen["over_floor_db"],
         margin,
         mono(ev, chosen["depth_m"]),
         height(ev, chosen["depth_m"]),
         ev["beamwidth_deg"],
-        min(math.log(h[1] / max(h[0], 1e-3)), VAGUE) if (h := ev.get("height_m")) else VAGUE,
+        min(math.log(h[1] / max(h[0], 1e-3)), VAGUE) if h else VAGUE,
     ]
     return chosen["depth_m"], feats
 
@@ -82,7 +82,7 @@ def main(paths):
     print(f"{len(samples)} objects with evidence from {len(paths)} files")
     best_beta, best_bonus, best_ok = None, None, -1
     for beta in [0.02, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.7, 1.0]:
-        for bonus in [0.0, 1.0, 2.0, 3.0, 4.0, 6.0]:
+        for bonus in [0.0, 2.0, 4.0, 6.0, 8.0, 10.0]:
             ok = 0
             for s in samples:
                 j = judge(s["evidence"], beta, bonus)

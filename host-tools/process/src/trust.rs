@@ -34,11 +34,14 @@ const NEAR_SPREAD: f64 = 0.1;
 pub const ROWS_OFF: f64 = 3.0;
 /// Vagueness of a camera that gives no height bounds (a range ratio of e³ ≈ 20).
 pub const VAGUE: f64 = 3.0;
-/// Margin given to a candidate that has no rival, nats.
+/// Doppler-path candidates below this height over their floor, dB, are noise: the movers the
+/// path finds stand 29 dB or more above it (5th percentile on our scenes), the rest 9 dB (median).
+pub const MIN_DOPPLER_DB: f64 = 20.0;
+/// Log-odds given to a candidate that has no rival, nats.
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
 /// Logistic coefficients of the confidence: bias, then [`Features`] in order.
-pub const COEFFICIENTS: [f64; 7] = [4.0896, -0.0345, 0.4515, 0.4714, 13.1805, -0.1454, -0.8564];
+pub const COEFFICIENTS: [f64; 7] = [5.1420, -0.0474, 0.4249, 0.5064, 13.8411, -0.1811, -1.0593];
 
 /// Height range of an object of `class`, m: what a mask's vertical extent is measured against.
 /// `None` for classes without one.
@@ -133,7 +136,8 @@ pub struct Evidence {
 pub struct Features {
     /// Radar score over the search floor, dB.
     pub over_floor_db: f64,
-    /// Lead of the chosen candidate's score over the best rival's, nats (capped).
+    /// Log-odds of the chosen depth against the other candidates: the softmax share of the
+    /// scores within 1 m of it over the rest, nats (capped at 8 when nothing competes).
     pub margin: f64,
     /// Monocular log-prior (≤ 0).
     pub monocular: f64,
@@ -195,21 +199,31 @@ impl Evidence {
     /// The candidate the radar and the camera together support best, with its confidence;
     /// `None` without candidates. O(candidates).
     pub fn judge(&self) -> Option<Verdict> {
-        let scored: Vec<(f64, &Candidate)> =
-            self.candidates.iter().map(|c| (self.score(c), c)).collect();
-        let (i, &(best, chosen)) = scored
+        let scored: Vec<(f64, &Candidate)> = self
+            .candidates
             .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.0.total_cmp(&b.1.0))?;
-        let rival = scored
-            .iter()
-            .enumerate()
-            .filter(|&(j, (_, c))| j != i && (c.depth_m - chosen.depth_m).abs() > 1.0)
-            .map(|(_, &(s, _))| s)
-            .fold(f64::NEG_INFINITY, f64::max);
+            .filter(|c| !c.doppler || c.over_floor_db >= MIN_DOPPLER_DB)
+            .map(|c| (self.score(c), c))
+            .collect();
+        let &(best, chosen) = scored.iter().max_by(|a, b| a.0.total_cmp(&b.0))?;
+        // The chosen depth's share of the candidates' evidence (softmax of the scores), counting
+        // those within 1 m of it as the same answer.
+        let (mut same, mut all) = (0.0, 0.0);
+        for &(s, c) in &scored {
+            let w = (s - best).exp();
+            all += w;
+            if (c.depth_m - chosen.depth_m).abs() <= 1.0 {
+                same += w;
+            }
+        }
+        let rest = all - same;
         let features = Features {
             over_floor_db: chosen.over_floor_db,
-            margin: (best - rival).min(NO_RIVAL_MARGIN),
+            margin: if rest > 0.0 {
+                (same / rest).ln().min(NO_RIVAL_MARGIN)
+            } else {
+                NO_RIVAL_MARGIN
+            },
             monocular: self.monocular(chosen.depth_m),
             height: self.height(chosen.depth_m),
             beamwidth_deg: self.beamwidth_deg,
