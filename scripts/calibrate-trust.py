@@ -9,7 +9,7 @@
 It re-implements the candidate score of trust.rs (radar dB plus the camera's log-priors), picks
 RADAR_NATS_PER_DB on a grid to maximise the share of objects whose chosen depth is within 1 m,
 then fits the logistic COEFFICIENTS (bias, dB, margin, monocular, height, beamwidth, vagueness) by Newton's method with
-a small ridge, and prints both to paste into trust.rs. numpy only.
+a small ridge, each with the sign physics allows, and prints both to paste into trust.rs. numpy only.
 """
 import json
 import math
@@ -51,13 +51,13 @@ def judge(ev, beta, bonus=0.0):
     scored = [
         (
             beta * c["over_floor_db"]
-            + (bonus if c.get("doppler") else 0.0)
+            + (bonus if c.get("velocity_mps") is not None else 0.0)
             + mono(ev, c["depth_m"])
             + height(ev, c["depth_m"]),
             c,
         )
         for c in ev["candidates"]
-        if not c.get("doppler") or c["over_floor_db"] >= MIN_DOPPLER_DB
+        if c.get("velocity_mps") is None or c["over_floor_db"] >= MIN_DOPPLER_DB
     ]
     if not scored:
         return None
@@ -75,6 +75,19 @@ def judge(ev, beta, bonus=0.0):
         min(math.log(h[1] / max(h[0], 1e-3)), VAGUE) if h else VAGUE,
     ]
     return chosen["depth_m"], feats
+
+
+def fit(x, y):
+    """Logistic regression by Newton's method with a small ridge (not on the bias)."""
+    w = np.zeros(x.shape[1])
+    ridge = 1e-2 * np.eye(x.shape[1])
+    ridge[0, 0] = 0.0
+    for _ in range(50):
+        p = 1.0 / (1.0 + np.exp(-x @ w))
+        grad = x.T @ (p - y) + ridge @ w
+        hess = x.T @ (x * (p * (1 - p))[:, None]) + ridge
+        w -= np.linalg.solve(hess, grad)
+    return w
 
 
 def main(paths):
@@ -98,14 +111,20 @@ def main(paths):
         rows.append([1.0] + j[1])
         labels.append(1.0 if abs(j[0] - s["truth_m"]) <= 1.0 else 0.0)
     x, y = np.array(rows), np.array(labels)
-    w = np.zeros(x.shape[1])
-    ridge = 1e-2 * np.eye(x.shape[1])
-    ridge[0, 0] = 0.0
-    for _ in range(50):
-        p = 1.0 / (1.0 + np.exp(-x @ w))
-        grad = x.T @ (p - y) + ridge @ w
-        hess = x.T @ (x * (p * (1 - p))[:, None]) + ridge
-        w -= np.linalg.solve(hess, grad)
+    # Signs physics allows (bias free): more signal, a larger lead, priors that agree -> more
+    # confident; a wider beam or a vaguer camera -> less. A coefficient fitted with the wrong
+    # sign is a quirk of the training scenes: it is fixed at 0 and the rest refitted.
+    signs = [0, +1, +1, +1, +1, -1, -1]
+    free = list(range(x.shape[1]))
+    while True:
+        w = fit(x[:, free], y)
+        bad = [f for f, v in zip(free, w) if signs[f] * v < 0]
+        if not bad:
+            break
+        free = [f for f in free if f not in bad]
+    full = np.zeros(x.shape[1])
+    full[free] = w
+    w = full
     p = 1.0 / (1.0 + np.exp(-x @ w))
     print(f"RADAR_NATS_PER_DB = {best_beta}")
     print(f"DOPPLER_NATS = {best_bonus}")

@@ -458,7 +458,8 @@ impl Edge {
     /// The range bins searched for `hint`: from [`PRIOR_FRACTION`] of its monocular range (bin 1
     /// when unknown) or the window's near bound, whichever is farther, to [`Edge::max_bin`] or
     /// the window's far bound, whichever is nearer; the whole range beyond the first when the
-    /// window leaves fewer than [`MIN_WINDOW_BINS`].
+    /// window leaves fewer than [`MIN_WINDOW_BINS`]. The window's near bound is taken down to a
+    /// whole bin.
     pub fn bins(&self, hint: &ObjectHint) -> (f32, f32) {
         let max_bin = self.max_bin() as f32;
         let bin = |m: f32| m / self.bin_m;
@@ -470,7 +471,9 @@ impl Edge {
         let (near, far) = (bin(hint.window_m.0), bin(hint.window_m.1));
         let last = if far > 0.0 { far.min(max_bin) } else { max_bin };
         if near.max(first) + MIN_WINDOW_BINS <= last {
-            first = near.max(first);
+            // The window's start on a whole bin, so the fine grid does not move with a mask
+            // one pixel taller.
+            first = libm::floorf(near).max(first);
             // max/min rather than clamp: no panic path even for a radar too short to search.
             return (first.max(1.0), last);
         }

@@ -69,6 +69,10 @@ pub struct ObjectEstimate {
     pub depth_m: Option<f64>,
     /// Azimuth, degrees (`null` when unknown).
     pub azimuth_deg: Option<f64>,
+    /// Radial velocity, m/s (positive away), where the method measured one (a mover the
+    /// Doppler path found); not part of cli.md's JSON.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radial_velocity_mps: Option<f64>,
     /// Depth image as points in the radar frame, m.
     pub points: Vec<[f64; 3]>,
     /// The module's confidence (dB of the search peak over its floor) where the method has one;
@@ -94,6 +98,7 @@ impl ObjectEstimate {
             detected: true,
             depth_m: Some(mm(depth)),
             azimuth_deg: azimuth.map(|a| (a.to_degrees() * 100.0).round() / 100.0),
+            radial_velocity_mps: None,
             points: points.iter().map(|p| [mm(p.x), mm(p.y), mm(p.z)]).collect(),
             confidence_db: None,
             confidence: None,
@@ -109,6 +114,7 @@ impl ObjectEstimate {
             detected: false,
             depth_m: None,
             azimuth_deg: None,
+            radial_velocity_mps: None,
             points: Vec::new(),
             confidence_db: None,
             confidence: None,

@@ -168,28 +168,41 @@ pub struct MovingScene {
     m: usize,
     rx: usize,
     slots: usize,
+    /// Radial velocity of one Doppler bin, m/s (λ / (2 · loop period · Doppler length)).
+    bin_mps: f64,
 }
 
-/// Most Doppler aliases tried each way (±`MAX_ALIAS` unambiguous intervals).
-const MAX_ALIAS: i32 = 25;
+/// Doppler bins searched per object: the strongest toward its span (another mover's energy can
+/// outweigh it there).
+pub const DOPPLER_BINS: usize = 3;
+
+/// One Doppler bin focused for an object: the bin, the alias chosen and the channel spectra
+/// compensated for it (`channels × m`).
+struct Focus {
+    q: usize,
+    alias: i32,
+    spectra: Vec<C32>,
+}
 
 impl MovingScene {
-    /// The Doppler spectra of the bin holding most energy toward `s_mid` from range bin `first`
-    /// on, compensated for the TDM slot delays with the Doppler alias that makes the virtual
-    /// array most coherent (12-TX TDM leaves ±1.4 m/s unambiguous, so fast movers alias).
-    fn focused(&self, s_mid: f32, first: usize, max_bin: usize) -> (usize, Vec<C32>) {
-        let (m, nd, rx) = (self.m, self.spectra.len(), self.rx);
-        let c = self.positions.len();
-        let steer: Vec<C32> = self
-            .positions
+    /// Steering phasors of every channel toward `s`.
+    fn steering(&self, s: f32) -> Vec<C32> {
+        self.positions
             .iter()
             .map(|&p| {
-                let a = -std::f32::consts::PI * p * s_mid;
+                let a = -std::f32::consts::PI * p * s;
                 C32::new(a.cos(), a.sin())
             })
-            .collect();
-        // Doppler bin: energy beamformed within each slot's receivers, summed over slots
-        // (insensitive to the alias).
+            .collect()
+    }
+
+    /// The [`DOPPLER_BINS`] strongest local maxima of the Doppler energy toward `s_mid` over
+    /// range bins `first..max_bin`, strongest first: energy beamformed within each slot's
+    /// receivers and summed over slots (insensitive to the alias).
+    /// O(Doppler · bins · channels).
+    fn doppler_bins(&self, s_mid: f32, first: usize, max_bin: usize) -> Vec<usize> {
+        let (m, rx) = (self.m, self.rx);
+        let steer = self.steering(s_mid);
         let incoherent = |sp: &[C32]| -> f32 {
             (first..max_bin)
                 .map(|k| {
@@ -204,9 +217,35 @@ impl MovingScene {
                 })
                 .sum()
         };
-        let q = (1..nd)
-            .max_by(|&a, &b| incoherent(&self.spectra[a]).total_cmp(&incoherent(&self.spectra[b])))
-            .unwrap_or(0);
+        let nd = self.spectra.len();
+        let energy: Vec<f32> = (0..nd)
+            .map(|q| {
+                if q == 0 {
+                    0.0
+                } else {
+                    incoherent(&self.spectra[q])
+                }
+            })
+            .collect();
+        // Local maxima over the (circular) Doppler axis: one per mover, not its main lobe's
+        // neighbours.
+        let mut peaks: Vec<usize> = (1..nd)
+            .filter(|&q| {
+                let (l, r) = (energy[(q + nd - 1) % nd], energy[(q + 1) % nd]);
+                energy[q] >= l && energy[q] >= r
+            })
+            .collect();
+        peaks.sort_by(|&a, &b| energy[b].total_cmp(&energy[a]).then(a.cmp(&b)));
+        peaks.truncate(DOPPLER_BINS);
+        peaks
+    }
+
+    /// Doppler bin `q` compensated for the TDM slot delays with the alias that makes the virtual
+    /// array most coherent toward `s_mid` over range bins `first..max_bin` (12-TX TDM leaves
+    /// ±1.4 m/s unambiguous, so fast movers alias).
+    fn focus(&self, q: usize, s_mid: f32, first: usize, max_bin: usize) -> Focus {
+        let (m, c) = (self.m, self.positions.len());
+        let steer = self.steering(s_mid);
         let sp = &self.spectra[q];
         let coherent = |comp: &[C32]| -> f32 {
             (first..max_bin)
@@ -216,18 +255,38 @@ impl MovingScene {
                 })
                 .sum()
         };
-        let alias = (-MAX_ALIAS..=MAX_ALIAS)
+        let alias = self
+            .aliases()
             .max_by(|&a, &b| {
                 coherent(&self.compensation(q, a)).total_cmp(&coherent(&self.compensation(q, b)))
             })
             .unwrap_or(0);
         let comp = self.compensation(q, alias);
-        let focused = sp
-            .iter()
-            .enumerate()
-            .map(|(i, &z)| z * comp[i / m])
-            .collect();
-        (q, focused)
+        Focus {
+            q,
+            alias,
+            spectra: sp
+                .iter()
+                .enumerate()
+                .map(|(i, &z)| z * comp[i / m])
+                .collect(),
+        }
+    }
+
+    /// The Doppler aliases TDM can tell apart: a slot's phase advances by a whole turn every
+    /// `slots` aliases, so only `slots` consecutive ones differ (centred on 0).
+    fn aliases(&self) -> std::ops::RangeInclusive<i32> {
+        let half = (self.slots / 2) as i32;
+        -half..=(self.slots as i32 - 1 - half)
+    }
+
+    /// Radial velocity of Doppler bin `q` taken `alias` unambiguous intervals further, m/s
+    /// (positive away from the radar): unique within ± slots · Doppler length · bin / 2
+    /// (±16 m/s for the cascade's 12 slots of 60 µs), folded into that interval beyond it.
+    fn velocity_mps(&self, q: usize, alias: i32) -> f64 {
+        let nd = self.spectra.len();
+        let qs = metamoran_dsp::units::signed_bin(q, nd) as f64;
+        (qs + f64::from(alias) * nd as f64) * self.bin_mps
     }
 
     /// The TDM slot phases of Doppler bin `q` taken `alias` unambiguous intervals further.
@@ -288,17 +347,36 @@ impl MovingScene {
             m,
             rx: config.rx_count(),
             slots: config.slots(),
+            bin_mps: config.wavelength_m() / (2.0 * config.loop_period_s() * nd as f64),
         }))
     }
 
-    /// The depth search on the Doppler bin holding most energy at the object's azimuth, as
-    /// the module would report it, without the candidates that are another direction's
-    /// reflection ([`Self::reflects_elsewhere`]).
-    fn search(&self, hint: &ObjectHint) -> Option<WireResult> {
+    /// The depth search on each of the [`DOPPLER_BINS`] Doppler bins holding most energy at the
+    /// object's azimuth, as the module would report it, without the candidates that are another
+    /// direction's reflection ([`Self::reflects_elsewhere`]); each with the radial velocity of
+    /// its bin and alias, m/s.
+    fn search(&self, hint: &ObjectHint) -> Vec<(WireResult, f64)> {
         let bins = self.edge.bins(hint);
         let s_mid = (hint.span.0 + hint.span.1) / 2.0;
-        let (q, focused) = self.focused(s_mid, bins.0 as usize, bins.1 as usize);
-        let (words, exponent) = pack_elements(&self.edge, &focused, self.m);
+        let (first, last) = (bins.0 as usize, bins.1 as usize);
+        self.doppler_bins(s_mid, first, last)
+            .into_iter()
+            .filter_map(|q| {
+                let focus = self.focus(q, s_mid, first, last);
+                let result = self.search_focused(hint, bins, &focus)?;
+                Some((result, self.velocity_mps(focus.q, focus.alias)))
+            })
+            .collect()
+    }
+
+    /// The search on one focused Doppler bin.
+    fn search_focused(
+        &self,
+        hint: &ObjectHint,
+        bins: (f32, f32),
+        focus: &Focus,
+    ) -> Option<WireResult> {
+        let (words, exponent) = pack_elements(&self.edge, &focus.spectra, self.m);
         let spectra =
             Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
         let mut profiles = vec![0u32; profile_words(hint.contour.points().len(), self.m)];
@@ -323,7 +401,7 @@ impl MovingScene {
         let bin_m = self.edge.geometry().bin_m as f64;
         let elsewhere = |mm: u32| {
             let bin = (mm as f64 / 1000.0 / bin_m).round() as usize;
-            self.reflects_elsewhere(q, bin, hint.span)
+            self.reflects_elsewhere(focus.q, bin, hint.span)
         };
         if elsewhere(result.depth_mm) {
             result.depth_mm = 0;
@@ -364,7 +442,7 @@ impl MovingScene {
         // Per alias: the strongest direction inside and outside; the alias that focuses the
         // energy best decides.
         let mut focus = (0.0f32, 0.0f32);
-        for alias in -MAX_ALIAS..=MAX_ALIAS {
+        for alias in self.aliases() {
             let column: Vec<C32> = self
                 .compensation(q, alias)
                 .iter()
@@ -589,12 +667,12 @@ pub fn merge(
     moving: Option<&MovingScene>,
     beamwidth_deg: f64,
 ) -> ObjectEstimate {
-    let found = moving.and_then(|mv| mv.search(hint));
+    let found = moving.map_or_else(Vec::new, |mv| mv.search(hint));
     let evidence = Evidence {
         candidates: on_module
             .iter()
-            .flat_map(|r| candidates(r, false))
-            .chain(found.iter().flat_map(|r| candidates(r, true)))
+            .flat_map(|r| candidates(r, None))
+            .chain(found.iter().flat_map(|(r, v)| candidates(r, Some(*v))))
             .collect(),
         monocular_m: obj.closest_range(),
         height_m: obj
@@ -608,6 +686,7 @@ pub fn merge(
             let points = reject_edges(obj.anchored(v.depth_m));
             ObjectEstimate {
                 confidence_db: Some(v.features.over_floor_db),
+                radial_velocity_mps: v.velocity_mps.map(|x| (x * 100.0).round() / 100.0),
                 ..ObjectEstimate::found(obj, v.depth_m, obj.median_azimuth(), points)
             }
         }
@@ -623,13 +702,13 @@ pub fn beamwidth_deg(array: &metamoran_dsp::array::VirtualArray) -> f64 {
     (2.0 / array.span().max(1) as f64).asin().to_degrees()
 }
 
-/// The candidate depths of one answer (of the Doppler path if `doppler`): its depth, then its
-/// alternatives.
-fn candidates(r: &WireResult, doppler: bool) -> impl Iterator<Item = Candidate> + '_ {
+/// The candidate depths of one answer (of the Doppler path at `velocity_mps` m/s if given): its
+/// depth, then its alternatives.
+fn candidates(r: &WireResult, velocity_mps: Option<f64>) -> impl Iterator<Item = Candidate> + '_ {
     let best = Candidate {
         depth_m: r.depth_m(),
         over_floor_db: r.over_floor_qdb as f64 / 4.0,
-        doppler,
+        velocity_mps,
     };
     let others = r
         .others
@@ -638,7 +717,7 @@ fn candidates(r: &WireResult, doppler: bool) -> impl Iterator<Item = Candidate> 
         .map(move |a| Candidate {
             depth_m: a.depth_m(),
             over_floor_db: a.over_floor_db(),
-            doppler,
+            velocity_mps,
         });
     (r.depth_mm > 0).then_some(best).into_iter().chain(others)
 }

@@ -41,7 +41,7 @@ pub const MIN_DOPPLER_DB: f64 = 20.0;
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
 /// Logistic coefficients of the confidence: bias, then [`Features`] in order.
-pub const COEFFICIENTS: [f64; 7] = [5.1420, -0.0474, 0.4249, 0.5064, 13.8411, -0.1811, -1.0593];
+pub const COEFFICIENTS: [f64; 7] = [3.1247, 0.0, 0.4340, 0.5172, 13.0762, -0.1294, -1.0420];
 
 /// Height range of an object of `class`, m: what a mask's vertical extent is measured against.
 /// `None` for classes without one.
@@ -113,8 +113,9 @@ pub struct Candidate {
     pub depth_m: f64,
     /// Its score over the search floor, dB.
     pub over_floor_db: f64,
-    /// Found on the Doppler path (static clutter removed): a mover's reflection.
-    pub doppler: bool,
+    /// Radial velocity, m/s, for a candidate of the Doppler path (static clutter removed: a
+    /// mover's reflection); `None` for the static search's.
+    pub velocity_mps: Option<f64>,
 }
 
 /// What the trust test knows about one object.
@@ -157,6 +158,8 @@ pub struct Verdict {
     pub depth_m: f64,
     /// Probability that the depth is within 1 m of the truth.
     pub confidence: f64,
+    /// Radial velocity of the chosen candidate, m/s, when the Doppler path found it.
+    pub velocity_mps: Option<f64>,
     /// What the confidence was computed from.
     pub features: Features,
 }
@@ -189,7 +192,11 @@ impl Evidence {
 
     /// Radar score plus camera log-prior of candidate `c`.
     fn score(&self, c: &Candidate) -> f64 {
-        let doppler = if c.doppler { DOPPLER_NATS } else { 0.0 };
+        let doppler = if c.velocity_mps.is_some() {
+            DOPPLER_NATS
+        } else {
+            0.0
+        };
         RADAR_NATS_PER_DB * c.over_floor_db
             + doppler
             + self.monocular(c.depth_m)
@@ -202,7 +209,7 @@ impl Evidence {
         let scored: Vec<(f64, &Candidate)> = self
             .candidates
             .iter()
-            .filter(|c| !c.doppler || c.over_floor_db >= MIN_DOPPLER_DB)
+            .filter(|c| c.velocity_mps.is_none() || c.over_floor_db >= MIN_DOPPLER_DB)
             .map(|c| (self.score(c), c))
             .collect();
         let &(best, chosen) = scored.iter().max_by(|a, b| a.0.total_cmp(&b.0))?;
@@ -233,6 +240,7 @@ impl Evidence {
         };
         Some(Verdict {
             depth_m: chosen.depth_m,
+            velocity_mps: chosen.velocity_mps,
             confidence: confidence(&features),
             features,
         })
@@ -298,7 +306,7 @@ mod tests {
         Candidate {
             depth_m,
             over_floor_db,
-            doppler: false,
+            velocity_mps: None,
         }
     }
 

@@ -46,6 +46,9 @@ pub struct Sample {
     /// Signed error of the depth the confidence is about (the chosen candidate, detected or
     /// not), m.
     pub judged_error_m: Option<f64>,
+    /// Error of the reported radial velocity (estimate − truth), m/s, where the method reported
+    /// one.
+    pub velocity_error_mps: Option<f64>,
     /// What the trust test saw (the calibration's input: `eval --samples`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub evidence: Option<crate::trust::Evidence>,
@@ -233,6 +236,9 @@ fn evaluate(dir: &Path, modes: &[Mode]) -> Result<Vec<Sample>, ProcessError> {
                         .and_then(|(_, v)| v.as_ref())
                         .map(|v| v.depth_m - t.depth_m),
                     evidence: judged.map(|(e, _)| e.clone()),
+                    velocity_error_mps: est
+                        .and_then(|o| o.radial_velocity_mps)
+                        .map(|v| v - t.radial_velocity_mps),
                 });
             }
         }
@@ -404,6 +410,7 @@ mod tests {
             confidence: None,
             judged_error_m: None,
             evidence: None,
+            velocity_error_mps: None,
         }
     }
 
