@@ -8,6 +8,7 @@
 //! large or too small.
 
 use super::object::{GROUND_Y, SceneObject};
+use crate::Difficulty;
 use metamoran_bundle::geometry::CameraModel;
 use rand::Rng;
 use rand_distr::StandardNormal;
@@ -51,6 +52,16 @@ pub fn render(cam: &CameraModel, objects: &[SceneObject]) -> Render {
     Render { ids, depth }
 }
 
+/// Median absolute monocular depth error at depth `z` under `difficulty`: Table I extrapolated
+/// linearly ([`Difficulty::Standard`]), or growing on past 50 m at Table I's 30–50 m slope
+/// (0.63 m per m: 45 m at 90 m, 177 m at 300 m; [`Difficulty::Hard`]).
+pub fn median_error_for(z: f64, difficulty: Difficulty) -> f64 {
+    match difficulty {
+        Difficulty::Hard if z > 50.0 => 19.4 + (19.4 - 7.0) / 20.0 * (z - 50.0),
+        _ => median_error(z),
+    }
+}
+
 /// Median absolute monocular depth error at depth `z` (Table I, extrapolated linearly).
 pub fn median_error(z: f64) -> f64 {
     const KNOTS: [(f64, f64); 6] = [
@@ -79,7 +90,13 @@ pub struct CameraProducts {
 }
 
 /// Turns the rendered truth into segmenter and monocular-depth outputs.
-pub fn products(render: &Render, width: u32, height: u32, rng: &mut impl Rng) -> CameraProducts {
+pub fn products(
+    render: &Render,
+    width: u32,
+    height: u32,
+    difficulty: Difficulty,
+    rng: &mut impl Rng,
+) -> CameraProducts {
     let (w, h) = (width as usize, height as usize);
     let n = w * h;
     let max_id = render.ids.iter().copied().max().unwrap_or(0) as usize;
@@ -94,7 +111,7 @@ pub fn products(render: &Render, width: u32, height: u32, rng: &mut impl Rng) ->
             let z = if z.is_finite() { z } else { 10.0 };
             let g: f64 = rng.sample(StandardNormal);
             // |N(0,1)| has median 0.6745: scale so the median |error| is median_error(z).
-            let e = g * median_error(z) / 0.6745;
+            let e = g * median_error_for(z, difficulty) / 0.6745;
             e.max(0.5 - z)
         })
         .collect();
@@ -115,12 +132,16 @@ pub fn products(render: &Render, width: u32, height: u32, rng: &mut impl Rng) ->
             (z + offsets[id] * ground_scale.min(3.0) + shape_noise).max(0.5)
         })
         .collect();
-    // Segmentation errors per instance: grow or shrink by a pixel.
+    // Segmentation errors per instance: grow or shrink by a pixel (up to two when hard).
     let mut mask = render.ids.clone();
     for id in 1..=max_id as u16 {
+        let times = match difficulty {
+            Difficulty::Standard => 1,
+            Difficulty::Hard => rng.random_range(1..=2),
+        };
         match rng.random_range(0..10) {
-            0..=3 => grow(&mut mask, w, h, id),
-            4..=5 => shrink(&mut mask, w, h, id),
+            0..=3 => (0..times).for_each(|_| grow(&mut mask, w, h, id)),
+            4..=5 => (0..times).for_each(|_| shrink(&mut mask, w, h, id)),
             _ => {}
         }
     }
@@ -198,5 +219,21 @@ fn shrink(mask: &mut [u16], w: usize, h: usize, id: u16) {
                 mask[i] = 0;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod difficulty_tests {
+    use super::{Difficulty, median_error, median_error_for};
+
+    #[test]
+    fn hard_monocular_error_keeps_table_one_slope_past_50_m() {
+        for z in [5.0, 30.0, 50.0] {
+            assert_eq!(median_error_for(z, Difficulty::Hard), median_error(z));
+        }
+        // Table I: 7 m at 30 m, 19.4 m at 50 m; 0.62 m per m on from there.
+        assert!((median_error_for(90.0, Difficulty::Hard) - 44.2).abs() < 1e-9);
+        assert!((median_error_for(300.0, Difficulty::Hard) - 174.4).abs() < 1e-9);
+        assert!(median_error_for(300.0, Difficulty::Hard) > median_error(300.0));
     }
 }

@@ -8,6 +8,7 @@
 use super::motion::Path;
 use super::object::{self, GROUND_Y, SceneObject};
 use super::shape::Shape;
+use crate::Difficulty;
 use rand::Rng;
 use std::f64::consts::PI;
 
@@ -66,6 +67,7 @@ fn half_span(r: f64, range: f64) -> f64 {
 
 struct Placer<'a, R: Rng> {
     rng: &'a mut R,
+    difficulty: Difficulty,
     objects: Vec<SceneObject>,
     /// (range, azimuth, angular half-width) of each object of interest.
     keep_clear: Vec<(f64, f64, f64)>,
@@ -226,8 +228,13 @@ fn radius(s: &Shape) -> f64 {
     }
 }
 
-/// The class and range of the objects of interest a preset draws, and their speed.
-fn interest(preset: Preset, rng: &mut impl Rng) -> (&'static str, f64, f64) {
+/// The class and range of the objects of interest a preset draws, and their speed (hard: cars
+/// to 35 m/s, beyond the ±16 m/s one TDM frame tells apart; people to 3.5 m/s).
+fn interest(
+    preset: Preset,
+    difficulty: Difficulty,
+    rng: &mut impl Rng,
+) -> (&'static str, f64, f64) {
     let class = match (preset, rng.random_range(0.0..1.0)) {
         (Preset::LongRange, _) => "car",
         (_, u) if u < 0.55 => "car",
@@ -240,16 +247,23 @@ fn interest(preset: Preset, rng: &mut impl Rng) -> (&'static str, f64, f64) {
         (Preset::Moving, "person") => rng.random_range(20.0..150.0),
         (Preset::Moving, _) => rng.random_range(20.0..300.0),
     };
-    let speed = match (preset, class) {
-        (Preset::Moving, "person") => rng.random_range(0.8..2.5),
-        (Preset::Moving, _) => rng.random_range(4.0..25.0),
+    let speed = match (preset, class, difficulty) {
+        (Preset::Moving, "person", Difficulty::Standard) => rng.random_range(0.8..2.5),
+        (Preset::Moving, "person", Difficulty::Hard) => rng.random_range(0.8..3.5),
+        (Preset::Moving, _, Difficulty::Standard) => rng.random_range(4.0..25.0),
+        (Preset::Moving, _, Difficulty::Hard) => rng.random_range(4.0..35.0),
         _ => 0.0,
     };
     (class, range, speed)
 }
 
 /// Draws a layout for `preset`; returns it with the largest object-of-interest depth.
-pub fn draw(preset: Preset, rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64) {
+pub fn draw(
+    preset: Preset,
+    difficulty: Difficulty,
+    rng: &mut impl Rng,
+    max_range: impl Fn(f64) -> f64,
+) -> (Layout, f64) {
     if preset == Preset::Perimeter {
         return perimeter(rng, max_range);
     }
@@ -258,10 +272,13 @@ pub fn draw(preset: Preset, rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) 
     } else {
         1
     };
-    let drawn: Vec<_> = (0..count).map(|_| interest(preset, rng)).collect();
+    let drawn: Vec<_> = (0..count)
+        .map(|_| interest(preset, difficulty, rng))
+        .collect();
     let deepest = drawn.iter().map(|d| d.1).fold(0.0, f64::max);
     let mut p = Placer {
         rng,
+        difficulty,
         objects: Vec::new(),
         keep_clear: Vec::new(),
         max_range: max_range(deepest),
@@ -290,6 +307,7 @@ fn perimeter(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64
     let car_range = rng.random_range(36.0..44.0);
     let mut p = Placer {
         rng,
+        difficulty: Difficulty::Standard,
         objects: Vec::new(),
         keep_clear: Vec::new(),
         max_range: max_range(car_range),
@@ -353,7 +371,43 @@ impl<R: Rng> Placer<'_, R> {
     fn clutter(&mut self) {
         let targets = self.keep_clear.clone();
         self.side_lobe_clutter(&targets);
+        if self.difficulty == Difficulty::Hard {
+            self.in_beam_clutter(&targets);
+        }
         self.background_clutter();
+    }
+
+    /// Hard scenes: for every target, a strong reflector inside an 8-element radar's beam
+    /// (within 7° of the target's azimuth) at another range: behind it (3–25 m) or nearer and
+    /// just beside its span (1–4° outside, so the camera still sees the target).
+    fn in_beam_clutter(&mut self, targets: &[(f64, f64, f64)]) {
+        for &(range, az, span) in targets {
+            let class = ["pole", "wall", "vehicle_parked"][self.rng.random_range(0..3)];
+            let side = if self.rng.random_range(0.0..1.0) < 0.5 {
+                -1.0
+            } else {
+                1.0
+            };
+            let behind = (
+                range + self.rng.random_range(3.0..25.0),
+                az.to_degrees() + side * self.rng.random_range(0.0..7.0),
+            );
+            let nearer = (
+                (range - self.rng.random_range(3.0..20.0)).max(3.0),
+                az.to_degrees() + side * (span.to_degrees() + self.rng.random_range(1.0..4.0)),
+            );
+            let order = if self.rng.random_range(0.0..1.0) < 0.5 {
+                [nearer, behind]
+            } else {
+                [behind, nearer]
+            };
+            // The other place when the first is taken or would hide the target.
+            for (r, a) in order {
+                if self.try_place(class, r - 1.0..r + 1.0, a - 0.5..a + 0.5, [0.0, 0.0]) {
+                    break;
+                }
+            }
+        }
     }
 
     /// The paper's failure case for most `targets` (range, azimuth, half-span): a strong

@@ -114,14 +114,37 @@ pub struct SimulatedScene {
     pub truth: Truth,
 }
 
+/// How kind a scene is to the method.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Difficulty {
+    /// The presets as they were: every seed gives the same bundle as before.
+    #[default]
+    Standard,
+    /// Harder where the standard scenes were kind (issue #17): monocular error growing past
+    /// 50 m at Table I's slope, segmentation off by up to two pixels, a strong reflector inside
+    /// an 8-element radar's beam at another range, movers up to 35 m/s.
+    Hard,
+}
+
 /// Simulates scene `index` of a run with seed `seed`: every frame of its layout (one, except
 /// for the perimeter preset), objects moved along their paths or velocities between frames.
 pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
+    simulate_scene_with(preset, kind, Difficulty::Standard, seed, index)
+}
+
+/// [`simulate_scene`] at `difficulty` (the drive and perimeter presets have one difficulty).
+pub fn simulate_scene_with(
+    preset: Preset,
+    kind: RadarKind,
+    difficulty: Difficulty,
+    seed: u64,
+    index: u64,
+) -> SimulatedScene {
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     if preset == Preset::Drive {
         return drive_scene(&mut rng);
     }
-    let (layout, deepest) = layout::draw(preset, &mut rng, radar::max_range_for);
+    let (layout, deepest) = layout::draw(preset, difficulty, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
     config.frames = u32::from(layout.frames);
@@ -137,7 +160,7 @@ pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) ->
         let objects = motion::at(&layout.objects, &layout.paths, t);
         let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
         adc.extend(signal::synthesize(&config, &echoes, &[], &mut rng));
-        let (shot, truth_objects) = film(&objects, &model, &camera, &mut rng);
+        let (shot, truth_objects) = film(&objects, &model, &camera, difficulty, &mut rng);
         frames.push(TruthFrame {
             frame: u32::from(f),
             ego: Ego {
@@ -168,10 +191,11 @@ fn film(
     objects: &[object::SceneObject],
     model: &CameraModel,
     camera: &CameraConfig,
+    difficulty: Difficulty,
     rng: &mut impl Rng,
 ) -> (Shot, Vec<TruthObject>) {
     let render = camera::render(model, objects);
-    let products = camera::products(&render, camera.width, camera.height, rng);
+    let products = camera::products(&render, camera.width, camera.height, difficulty, rng);
     let visible: std::collections::BTreeSet<u16> =
         products.mask.iter().copied().filter(|&i| i != 0).collect();
     let seen = |o: &&object::SceneObject| visible.contains(&o.id);
@@ -239,7 +263,7 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         all.push(ground_here);
         let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
         adc.extend(signal::synthesize(&config, &echoes, &elevation, rng));
-        let (shot, truth_objects) = film(&objects, &model, &camera, rng);
+        let (shot, truth_objects) = film(&objects, &model, &camera, Difficulty::Standard, rng);
         lidar.push(metamoran_bundle::lidar::scan(|d| {
             let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
             let origin = nalgebra::Vector3::zeros();
@@ -326,7 +350,22 @@ pub fn simulate_one(
     index: u64,
     dir: &Path,
 ) -> Result<(), SimError> {
-    let s = simulate_scene(preset, kind, seed, index);
+    simulate_one_with(preset, kind, Difficulty::Standard, seed, index, dir)
+}
+
+/// [`simulate_one`] at `difficulty`.
+///
+/// # Errors
+/// [`SimError`] naming the file that could not be written.
+pub fn simulate_one_with(
+    preset: Preset,
+    kind: RadarKind,
+    difficulty: Difficulty,
+    seed: u64,
+    index: u64,
+    dir: &Path,
+) -> Result<(), SimError> {
+    let s = simulate_scene_with(preset, kind, difficulty, seed, index);
     let name = dir
         .file_name()
         .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
@@ -358,17 +397,78 @@ pub fn simulate(
     out: &Path,
     done: &(dyn Fn() + Sync),
 ) -> Result<Vec<PathBuf>, SimError> {
+    simulate_with(preset, kind, Difficulty::Standard, seed, count, out, done)
+}
+
+/// [`simulate`] at `difficulty`; hard scenes go to `out/<preset>-hard-<seed>-<index>`.
+///
+/// # Errors
+/// The first scene that could not be written.
+pub fn simulate_with(
+    preset: Preset,
+    kind: RadarKind,
+    difficulty: Difficulty,
+    seed: u64,
+    count: u64,
+    out: &Path,
+    done: &(dyn Fn() + Sync),
+) -> Result<Vec<PathBuf>, SimError> {
     std::fs::create_dir_all(out).map_err(|e| SimError::Write {
         path: out.to_owned(),
         source: e.into(),
     })?;
+    let tag = match difficulty {
+        Difficulty::Standard => "",
+        Difficulty::Hard => "-hard",
+    };
     let dirs: Vec<PathBuf> = (0..count)
-        .map(|k| out.join(format!("{}-{seed}-{k:04}", preset.name())))
+        .map(|k| out.join(format!("{}{tag}-{seed}-{k:04}", preset.name())))
         .collect();
     dirs.par_iter().enumerate().try_for_each(|(k, dir)| {
-        let r = simulate_one(preset, kind, seed, k as u64, dir);
+        let r = simulate_one_with(preset, kind, difficulty, seed, k as u64, dir);
         done();
         r
     })?;
     Ok(dirs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Difficulty, Preset, RadarKind, simulate_scene_with};
+
+    /// Objects of interest with a strong reflector within 7° of them at a range 2.5 m or more
+    /// away (what an 8-element beam cannot separate), over `n` scenes.
+    fn crowded_beams(difficulty: Difficulty, n: u64) -> (usize, usize) {
+        let (mut crowded, mut total) = (0, 0);
+        for i in 0..n {
+            let s = simulate_scene_with(Preset::ParkingLot, RadarKind::Xwr18xx, difficulty, 5, i);
+            let polar = |c: [f64; 2]| (c[0].hypot(c[1]), c[0].atan2(c[1]).to_degrees());
+            for o in s
+                .objects
+                .iter()
+                .filter(|o| matches!(o.class, "car" | "person" | "sign"))
+            {
+                let (r, a) = polar(o.centre());
+                total += 1;
+                crowded += usize::from(s.objects.iter().any(|c| {
+                    let (cr, ca) = polar(c.centre());
+                    matches!(c.class, "pole" | "wall" | "vehicle_parked")
+                        && (ca - a).abs() < 7.0
+                        && (cr - r).abs() > 2.5
+                }));
+            }
+        }
+        (crowded, total)
+    }
+
+    #[test]
+    fn hard_scenes_put_clutter_inside_a_small_radars_beam() {
+        let (hard, n) = crowded_beams(Difficulty::Hard, 12);
+        let (standard, m) = crowded_beams(Difficulty::Standard, 12);
+        assert!(hard as f64 >= 0.8 * n as f64, "{hard}/{n}");
+        assert!(
+            hard as f64 / n as f64 > standard as f64 / m as f64,
+            "{standard}/{m}"
+        );
+    }
 }
