@@ -21,7 +21,7 @@ use crate::response::Geometry;
 use crate::search::Contour;
 use crate::search::depth::{self, SearchError, SearchResult};
 use crate::window::{self, WindowKind};
-use crate::wire::message::{ALTERNATIVES, Alternative};
+use crate::wire::Alternative;
 use crate::wire::message::{WirePoint, m_to_mm, q15_to_sin, sin_to_q15};
 use crate::wire::{Hint, ObjectResult};
 use core::fmt;
@@ -119,7 +119,8 @@ impl ObjectHint {
 
 impl ObjectReport {
     /// The wire form of this report for `hint`: the depth in millimetres, the direction of the
-    /// contour's closest point and the confidence in quarter dB (0: not detected).
+    /// contour's closest point, the peak's height over the floor in quarter dB and the
+    /// strongest other candidate.
     pub fn to_wire(&self, hint: &ObjectHint) -> ObjectResult {
         let closest = hint
             .contour
@@ -132,29 +133,24 @@ impl ObjectReport {
             let db = 10.0 * libm::log10f(peak.max(f32::MIN_POSITIVE) / floor);
             libm::roundf(4.0 * db).clamp(0.0, 255.0) as u8
         };
-        let over_floor_qdb = qdb(self.search.peak);
-        let confidence = if self.detected() {
-            over_floor_qdb.max(1)
-        } else {
-            0
-        };
-        let mut others = [Alternative::default(); ALTERNATIVES];
-        for (o, c) in others.iter_mut().zip(&self.search.others) {
-            if c.peak > 0.0 {
-                *o = Alternative {
-                    depth_mm: m_to_mm(c.depth_m),
-                    over_floor_qdb: qdb(c.peak),
-                };
+        let depth_mm = m_to_mm(self.search.depth_m);
+        let runner = self.search.others[0];
+        let offset_cm = libm::roundf(100.0 * (runner.depth_m - self.search.depth_m));
+        let other = if runner.peak > 0.0 && libm::fabsf(offset_cm) <= i16::MAX as f32 {
+            Alternative {
+                offset_cm: offset_cm as i16,
+                confidence: qdb(runner.peak).max(1),
             }
-        }
+        } else {
+            Alternative::default()
+        };
         ObjectResult {
             instance: self.id,
             class: self.class,
-            depth_mm: m_to_mm(self.search.depth_m),
+            depth_mm,
             sin_az: sin_to_q15(closest),
-            confidence,
-            over_floor_qdb,
-            others,
+            confidence: qdb(self.search.peak),
+            other,
         }
     }
 

@@ -71,14 +71,10 @@ fn result(frame: u32, instance: u16) -> Uplink {
         depth_mm: 41_250,
         sin_az: -12_000,
         confidence: 77,
-        over_floor_qdb: 77,
-        others: [
-            Alternative {
-                depth_mm: 29_400,
-                over_floor_qdb: 70,
-            },
-            Alternative::default(),
-        ],
+        other: Alternative {
+            offset_cm: -1_185,
+            confidence: 70,
+        },
     };
     Uplink::Results {
         summary: FrameSummary {
@@ -174,7 +170,7 @@ fn the_largest_downlink_messages_fit_a_frame() {
 }
 
 #[test]
-fn a_result_takes_at_most_24_bytes_on_the_wire() {
+fn a_result_takes_at_most_16_bytes_on_the_wire() {
     // Worst case the docs promise: ids and classes at their maximum, depth just below 2 km,
     // azimuth at its most negative.
     let r = ObjectResult {
@@ -183,14 +179,13 @@ fn a_result_takes_at_most_24_bytes_on_the_wire() {
         depth_mm: 2_097_151,
         sin_az: -32767,
         confidence: 255,
-        over_floor_qdb: 255,
-        others: [Alternative {
-            depth_mm: 2_097_151,
-            over_floor_qdb: 255,
-        }; 2],
+        other: Alternative {
+            offset_cm: i16::MIN,
+            confidence: 255,
+        },
     };
     let alone = postcard::to_allocvec(&r).unwrap();
-    assert!(alone.len() <= 20, "{} bytes", alone.len());
+    assert!(alone.len() <= 15, "{} bytes", alone.len());
     // Marginal wire bytes of each object in a frame's results (COBS adds at most one byte
     // per 254).
     let frame_of = |n: usize| {
@@ -207,7 +202,7 @@ fn a_result_takes_at_most_24_bytes_on_the_wire() {
     };
     let (empty, full) = (frame_of(0), frame_of(MAX_OBJECTS));
     let per_object = (full - empty) as f64 / MAX_OBJECTS as f64;
-    assert!(per_object <= 24.0, "{per_object} bytes per object");
+    assert!(per_object <= 16.0, "{per_object} bytes per object");
     assert!(full <= MAX_WIRE);
 }
 

@@ -96,33 +96,18 @@ pub enum Downlink {
     Stop,
 }
 
-/// Another explanation of an object's data the depth search found: a depth and how far its
-/// score stands above the search floor.
+/// The depth search's runner-up for an object: another explanation of its data, as an offset
+/// from the reported depth and how far its score stands above the search floor.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Alternative {
-    /// Depth of the object's closest point, mm (0: none).
-    pub depth_mm: u32,
-    /// Its score over the search floor in quarter dB (0 … 255, clamped).
-    pub over_floor_qdb: u8,
+    /// Its depth minus the reported depth, cm (±327 m).
+    pub offset_cm: i16,
+    /// Its score over the search floor in quarter dB (0: no alternative; 1 … 255, clamped).
+    pub confidence: u8,
 }
-
-impl Alternative {
-    /// Depth in metres.
-    pub fn depth_m(&self) -> f64 {
-        self.depth_mm as f64 / 1000.0
-    }
-
-    /// Score over the search floor, dB.
-    pub fn over_floor_db(&self) -> f64 {
-        self.over_floor_qdb as f64 / 4.0
-    }
-}
-
-/// Alternatives a result carries besides its depth.
-pub const ALTERNATIVES: usize = 2;
 
 /// Uplink: the module's answer for one object, inside its frame's [`Uplink::Results`] (which
-/// carries the frame number once): at most 20 bytes on the wire for depths below 2 km.
+/// carries the frame number once): at most 15 bytes on the wire for depths below 2 km.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ObjectResult {
     /// Instance id.
@@ -133,14 +118,12 @@ pub struct ObjectResult {
     pub depth_mm: u32,
     /// `sin θ` of the closest contour point, Q15.
     pub sin_az: i16,
-    /// 0: not detected by the module's own test; otherwise the peak's height above the search
-    /// floor in quarter dB (1 … 255).
+    /// The peak's height above the search floor in quarter dB (0 … 255, clamped), whether or
+    /// not it passes the module's own test (the frame's [`FrameSummary::detected`] counts those):
+    /// the host's trust test decides, with the camera's evidence.
     pub confidence: u8,
-    /// The peak's height above the search floor in quarter dB whether detected or not (0 … 255).
-    pub over_floor_qdb: u8,
-    /// The search's other explanations, strongest first: the host weighs them against the
-    /// camera's evidence.
-    pub others: [Alternative; ALTERNATIVES],
+    /// The search's strongest other explanation (see [`Alternative`]).
+    pub other: Alternative,
 }
 
 impl ObjectResult {
@@ -149,9 +132,19 @@ impl ObjectResult {
         self.depth_mm as f64 / 1000.0
     }
 
-    /// Whether the module trusts the depth.
-    pub fn detected(&self) -> bool {
-        self.confidence > 0
+    /// Height of the peak over the search floor, dB.
+    pub fn confidence_db(&self) -> f64 {
+        f64::from(self.confidence) / 4.0
+    }
+
+    /// The alternative's depth (m) and height over the floor (dB), if there is one.
+    pub fn other(&self) -> Option<(f64, f64)> {
+        (self.other.confidence > 0).then(|| {
+            (
+                self.depth_m() + f64::from(self.other.offset_cm) / 100.0,
+                f64::from(self.other.confidence) / 4.0,
+            )
+        })
     }
 }
 

@@ -62,7 +62,7 @@ pub struct ObjectView {
     pub depth_m: f64,
     /// Whether the module trusts it.
     pub detected: bool,
-    /// The module's confidence, dB of `P(d*)` over the median score (0 when not detected).
+    /// The module's confidence, dB of `P(d*)` over the median score.
     pub confidence_db: f64,
     /// The reflectors SIC cancelled, in order: (range m, azimuth degrees).
     pub cancelled: Vec<(f64, f64)>,
@@ -126,7 +126,7 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
             prior_m: p.hint.prior_m as f64,
             depth_m: report.search.depth_m as f64,
             detected: report.detected(),
-            confidence_db: report.to_wire(&p.hint).confidence as f64 / 4.0,
+            confidence_db: report.to_wire(&p.hint).confidence_db(),
             cancelled: p
                 .reflectors
                 .iter()

@@ -406,9 +406,9 @@ impl MovingScene {
         if elsewhere(result.depth_mm) {
             result.depth_mm = 0;
         }
-        for o in &mut result.others {
-            if o.depth_mm > 0 && elsewhere(o.depth_mm) {
-                *o = Default::default();
+        if let Some((depth, _)) = result.other() {
+            if elsewhere((depth * 1000.0).round() as u32) {
+                result.other = Default::default();
             }
         }
         Some(result)
@@ -704,20 +704,16 @@ pub fn beamwidth_deg(array: &metamoran_dsp::array::VirtualArray) -> f64 {
 
 /// The candidate depths of one answer (of the Doppler path at `velocity_mps` m/s if given): its
 /// depth, then its alternatives.
-fn candidates(r: &WireResult, velocity_mps: Option<f64>) -> impl Iterator<Item = Candidate> + '_ {
-    let best = Candidate {
+fn candidates(r: &WireResult, velocity_mps: Option<f64>) -> impl Iterator<Item = Candidate> {
+    let best = (r.depth_mm > 0).then(|| Candidate {
         depth_m: r.depth_m(),
-        over_floor_db: r.over_floor_qdb as f64 / 4.0,
+        over_floor_db: r.confidence_db(),
         velocity_mps,
-    };
-    let others = r
-        .others
-        .iter()
-        .filter(|a| a.depth_mm > 0)
-        .map(move |a| Candidate {
-            depth_m: a.depth_m(),
-            over_floor_db: a.over_floor_db(),
-            velocity_mps,
-        });
-    (r.depth_mm > 0).then_some(best).into_iter().chain(others)
+    });
+    let other = r.other().map(|(depth_m, over_floor_db)| Candidate {
+        depth_m,
+        over_floor_db,
+        velocity_mps,
+    });
+    best.into_iter().chain(other)
 }

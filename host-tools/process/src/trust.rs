@@ -18,10 +18,10 @@ use crate::camera_points::{CameraObject, VerticalExtent};
 use serde::Serialize;
 
 /// Nats of camera log-prior one dB of radar score is worth when candidates are compared.
-pub const RADAR_NATS_PER_DB: f64 = 0.15;
+pub const RADAR_NATS_PER_DB: f64 = 0.1;
 /// Nats a candidate of the Doppler path gains over a static one: a reflection that moves and
 /// survives the check against other directions is rarely clutter.
-pub const DOPPLER_NATS: f64 = 6.0;
+pub const DOPPLER_NATS: f64 = 4.0;
 /// A depth is reported as detected when its confidence reaches this probability.
 pub const DETECTION_CONFIDENCE: f64 = 0.8;
 /// Relative spread of the height bound's log penalty beyond the far bound (a mask can look no
@@ -41,7 +41,7 @@ pub const MIN_DOPPLER_DB: f64 = 20.0;
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
 /// Logistic coefficients of the confidence: bias, then [`Features`] in order.
-pub const COEFFICIENTS: [f64; 7] = [3.1247, 0.0, 0.4340, 0.5172, 13.0762, -0.1294, -1.0420];
+pub const COEFFICIENTS: [f64; 7] = [3.0347, 0.0, 0.4431, 0.5065, 13.5330, -0.1406, -0.8079];
 
 /// Height range of an object of `class`, m: what a mask's vertical extent is measured against.
 /// `None` for classes without one.

@@ -8,7 +8,6 @@
 //!   cascade-86, 512-sample, 4-object budget frame (goal 24 M: half of a 100 ms frame at 480 MHz);
 //! * telemetry: wire bytes of the uplink frames a frame produces, per object and per frame.
 
-use metamoran_dsp::wire::message::ALTERNATIVES;
 use metamoran_dsp::wire::{
     Alternative, DEV_KEY, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink,
 };
@@ -113,8 +112,8 @@ pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
         if let Some(s) = field(line, "stack_bytes=") {
             stack = stack.max(s.parse().map_err(|_| format!("bad line: {line}"))?);
         }
-        // Depths from the module; azimuth, confidence and the alternatives take typical values
-        // (3-byte and 1-byte varints), as the benchmark firmware does not report them.
+        // Depths from the module; azimuth, confidence and the alternative (12.5 m away) take
+        // typical values, as the benchmark firmware does not report them.
         if line.starts_with("PIPELINE ") {
             let depth: u32 = field(line, "depth_mm=")
                 .and_then(|d| d.parse().ok())
@@ -125,11 +124,10 @@ pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
                 depth_mm: depth,
                 sin_az: -9830,
                 confidence: 80,
-                over_floor_qdb: 80,
-                others: [Alternative {
-                    depth_mm: depth.saturating_add(5_000),
-                    over_floor_qdb: 60,
-                }; ALTERNATIVES],
+                other: Alternative {
+                    offset_cm: 1_250,
+                    confidence: 60,
+                },
             });
         }
     }
