@@ -428,16 +428,7 @@ impl MovingScene {
         let guard = 2.0 / span_len;
         let steps = (4.0 * span_len) as usize;
         let steer: Vec<Vec<C32>> = (0..=steps)
-            .map(|i| {
-                let s = -1.0 + 2.0 * i as f32 / steps as f32;
-                self.positions
-                    .iter()
-                    .map(|&p| {
-                        let a = -std::f32::consts::PI * p * s;
-                        C32::new(a.cos(), a.sin())
-                    })
-                    .collect()
-            })
+            .map(|i| self.steering(-1.0 + 2.0 * i as f32 / steps as f32))
             .collect();
         // Per alias: the strongest direction inside and outside; the alias that focuses the
         // energy best decides.
