@@ -24,6 +24,11 @@ pub const RADAR_NATS_PER_DB: f64 = 0.1;
 pub const DOPPLER_NATS: f64 = 4.0;
 /// A depth is reported as detected when its confidence reaches this probability.
 pub const DETECTION_CONFIDENCE: f64 = 0.8;
+/// ...and when it holds at least this log-odds of the candidates' softmax share (62 %): two
+/// explanations the radar and the camera cannot tell apart mean the answer is a guess. On the
+/// 873 training objects (seeds 71xx-74xx) this cut the confidently-wrong rate from 2.9 % to
+/// 2.0 % for 2.4 points of detection.
+pub const MIN_LOG_ODDS: f64 = 0.5;
 /// Relative spread of the height bound's log penalty beyond the far bound (a mask can look no
 /// smaller than the whole object but for segmentation error, already in the bound).
 const FAR_SPREAD: f64 = 0.05;
@@ -165,9 +170,10 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    /// Whether the depth is trusted: [`DETECTION_CONFIDENCE`] or more.
+    /// Whether the depth is trusted: [`DETECTION_CONFIDENCE`] or more, and no near tie
+    /// ([`MIN_LOG_ODDS`]).
     pub fn detected(&self) -> bool {
-        self.confidence >= DETECTION_CONFIDENCE
+        self.confidence >= DETECTION_CONFIDENCE && self.features.margin >= MIN_LOG_ODDS
     }
 }
 
@@ -355,6 +361,21 @@ mod tests {
         // A depth the mask's height rules out is not trusted however strong the radar peak.
         f.height = -(1.3f64).ln() / FAR_SPREAD;
         assert!(confidence(&f) < DETECTION_CONFIDENCE);
+    }
+
+    #[test]
+    fn a_near_tie_is_not_detected() {
+        // Two depths 12 m apart, 0.5 dB apart, both inside the height bounds and equally far
+        // from the monocular range.
+        let e = Evidence {
+            candidates: vec![candidate(40.0, 30.0), candidate(52.0, 29.5)],
+            monocular_m: Some(46.0),
+            height_m: Some((35.0, 60.0)),
+            beamwidth_deg: 1.33,
+        };
+        let v = e.judge().unwrap();
+        assert!(v.features.margin.abs() < 0.1, "{v:?}");
+        assert!(!v.detected(), "{v:?}");
     }
 
     #[test]
