@@ -50,10 +50,15 @@ impl std::fmt::Display for InspectReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(f, "{} frame {}:", self.bundle, self.frame)?;
         for o in &self.objects {
-            let verdict = if o.detected {
-                format!("{:.1} dB", o.confidence_db)
-            } else {
-                "not detected".to_owned()
+            let verdict = match &o.verdict {
+                Some(v) => format!(
+                    "{:.1} dB; trust test: {:.2} m at confidence {:.2}{}",
+                    o.confidence_db,
+                    v.depth_m,
+                    v.confidence,
+                    if v.detected() { "" } else { ", not detected" }
+                ),
+                None => "no candidate".to_owned(),
             };
             writeln!(
                 f,
@@ -77,6 +82,21 @@ impl std::fmt::Display for InspectReport {
                 } else {
                     String::new()
                 }
+            )?;
+            let candidates: Vec<String> = o
+                .evidence
+                .candidates
+                .iter()
+                .map(|c| format!("{:.2} m {:.1} dB", c.depth_m, c.over_floor_db))
+                .collect();
+            let window = match o.evidence.height_m {
+                Some((near, far)) => format!("{near:.1}–{far:.1} m"),
+                None => "none".to_owned(),
+            };
+            writeln!(
+                f,
+                "    candidates: {}; the mask's height allows {window}",
+                candidates.join(", ")
             )?;
         }
         writeln!(f, "wrote {} plots to {}", self.files.len(), self.out)

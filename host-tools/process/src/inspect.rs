@@ -60,10 +60,17 @@ pub struct ObjectView {
     pub prior_m: f64,
     /// The search's depth of the object's closest point, m.
     pub depth_m: f64,
-    /// Whether the module trusts it.
+    /// Whether the module's own test trusts it (peak over floor and uniqueness).
     pub detected: bool,
     /// The module's confidence, dB of `P(d*)` over the median score.
     pub confidence_db: f64,
+    /// The range window the mask's apparent height allowed the search, m (0: none).
+    pub window_m: (f64, f64),
+    /// What the host's trust test weighed (the static search's candidates and the camera's cues;
+    /// `process` adds the Doppler path's for movers).
+    pub evidence: crate::trust::Evidence,
+    /// Its choice and confidence.
+    pub verdict: Option<crate::trust::Verdict>,
     /// The reflectors SIC cancelled, in order: (range m, azimuth degrees).
     pub cancelled: Vec<(f64, f64)>,
     /// The coarse score per candidate depth of the closest point: (m, `P`).
@@ -119,6 +126,10 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
         let before = map(scene.range_azimuth_db(&[], &sin_grid, bins)?);
         let after = map(scene.range_azimuth_db(&p.reflectors, &sin_grid, bins)?);
         let deg = |s: f32| (s as f64).asin().to_degrees();
+        let wire = report.to_wire(&p.hint);
+        let beamwidth = crate::metamoran::beamwidth_deg(scene.edge().array());
+        let evidence = crate::metamoran::evidence(&obj, Some(&wire), &[], beamwidth);
+        let verdict = evidence.judge();
         views.push(ObjectView {
             instance: obj.instance,
             class: obj.class.clone(),
@@ -126,7 +137,10 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
             prior_m: p.hint.prior_m as f64,
             depth_m: report.search.depth_m as f64,
             detected: report.detected(),
-            confidence_db: report.to_wire(&p.hint).confidence_db(),
+            confidence_db: wire.confidence_db(),
+            window_m: (p.hint.window_m.0 as f64, p.hint.window_m.1 as f64),
+            evidence,
+            verdict,
             cancelled: p
                 .reflectors
                 .iter()

@@ -659,18 +659,7 @@ pub fn merge(
     beamwidth_deg: f64,
 ) -> ObjectEstimate {
     let found = moving.map_or_else(Vec::new, |mv| mv.search(hint));
-    let evidence = Evidence {
-        candidates: on_module
-            .iter()
-            .flat_map(|r| candidates(r, None))
-            .chain(found.iter().flat_map(|(r, v)| candidates(r, Some(*v))))
-            .collect(),
-        monocular_m: obj.closest_range(),
-        height_m: obj
-            .extent
-            .and_then(|e| crate::trust::height_bounds_m(&obj.class, &e)),
-        beamwidth_deg,
-    };
+    let evidence = evidence(obj, on_module.as_ref(), &found, beamwidth_deg);
     let verdict = evidence.judge();
     let mut estimate = match verdict {
         Some(v) if v.detected() => {
@@ -686,6 +675,28 @@ pub fn merge(
     estimate.confidence = verdict.map(|v| (v.confidence * 1000.0).round() / 1000.0);
     estimate.evidence = Some(Box::new((evidence, verdict)));
     estimate
+}
+
+/// What the trust test weighs for `obj`: the candidates of the module's answer and of the
+/// Doppler path's answers (each with its velocity, m/s), and the camera's two cues.
+pub fn evidence(
+    obj: &CameraObject,
+    on_module: Option<&WireResult>,
+    doppler: &[(WireResult, f64)],
+    beamwidth_deg: f64,
+) -> Evidence {
+    Evidence {
+        candidates: on_module
+            .into_iter()
+            .flat_map(|r| candidates(r, None))
+            .chain(doppler.iter().flat_map(|(r, v)| candidates(r, Some(*v))))
+            .collect(),
+        monocular_m: obj.closest_range(),
+        height_m: obj
+            .extent
+            .and_then(|e| crate::trust::height_bounds_m(&obj.class, &e)),
+        beamwidth_deg,
+    }
 }
 
 /// The array's azimuth beamwidth at boresight, degrees (2 / aperture in sin θ).
