@@ -72,6 +72,82 @@ pub enum ConfigError {
         /// The TX index found there.
         tx: u8,
     },
+    /// Each field is fine alone, but a quantity derived from several is not physically
+    /// plausible (an infinite maximum range from a slope of 1e-300, chirps that do not fit in
+    /// the frame, …).
+    Implausible {
+        /// The quantity and the fields it comes from.
+        quantity: Derived,
+        /// Its value, in the quantity's unit.
+        value: f64,
+    },
+}
+
+/// A quantity [`RadarConfig::validate`] derives from several fields and bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Derived {
+    /// The carrier `start_frequency_hz`, Hz: 1–300 GHz.
+    Carrier,
+    /// R_max = fs·c / (2·S), m: 0.5 m to 100 km.
+    MaxRange,
+    /// The swept bandwidth S·N / fs, Hz: 1 MHz to 20 GHz (range resolution 7.5 mm to 150 m).
+    Bandwidth,
+    /// The sampling window N / fs, s: at most `chirp_period_s`.
+    SamplingWindow,
+    /// The chirps of one frame, `chirps_per_tx · len(tx_order) · chirp_period_s`, s: at most
+    /// `frame_period_s`.
+    ChirpTime,
+}
+
+impl Derived {
+    /// The accepted range, in the quantity's unit.
+    pub fn bounds(self, config: &RadarConfig) -> (f64, f64) {
+        match self {
+            Self::Carrier => (1.0e9, 300.0e9),
+            Self::MaxRange => (0.5, 100.0e3),
+            Self::Bandwidth => (1.0e6, 20.0e9),
+            Self::SamplingWindow => (0.0, config.chirp_period_s),
+            Self::ChirpTime => (0.0, config.frame_period_s),
+        }
+    }
+
+    /// The field most likely wrong (the one an error message names).
+    pub fn field(self) -> &'static str {
+        match self {
+            Self::Carrier => "start_frequency_hz",
+            Self::MaxRange | Self::Bandwidth => "slope_hz_per_s",
+            Self::SamplingWindow => "chirp_period_s",
+            Self::ChirpTime => "frame_period_s",
+        }
+    }
+
+    /// The quantity, its unit and the fields to check.
+    fn describe(self) -> (&'static str, &'static str, &'static str) {
+        match self {
+            Self::Carrier => ("carrier frequency", "Hz", "start_frequency_hz"),
+            Self::MaxRange => (
+                "maximum range fs·c/(2·S)",
+                "m",
+                "slope_hz_per_s and sample_rate_hz",
+            ),
+            Self::Bandwidth => (
+                "swept bandwidth S·N/fs",
+                "Hz",
+                "slope_hz_per_s, adc_samples and sample_rate_hz",
+            ),
+            Self::SamplingWindow => (
+                "sampling window N/fs",
+                "s",
+                "adc_samples, sample_rate_hz and chirp_period_s (samples must fit in a chirp)",
+            ),
+            Self::ChirpTime => (
+                "chirp time of a frame",
+                "s",
+                "chirps_per_tx, tx_order, chirp_period_s and frame_period_s (a frame's chirps \
+                 must fit in its period)",
+            ),
+        }
+    }
 }
 
 impl core::error::Error for ConfigError {}
@@ -97,6 +173,13 @@ impl fmt::Display for ConfigError {
                 f,
                 "`tx_order[{slot}]` = {tx} names a transmitter that `tx_positions` does not have"
             ),
+            Self::Implausible { quantity, value } => {
+                let (what, unit, fields) = quantity.describe();
+                write!(
+                    f,
+                    "the {what} is {value:e} {unit}, which no radar has; check {fields}"
+                )
+            }
         }
     }
 }
@@ -139,7 +222,34 @@ impl RadarConfig {
                 return Err(ConfigError::TxOrder { slot, tx });
             }
         }
+        self.check_derived()
+    }
+
+    /// Bounds every [`Derived`] quantity: each must be finite and inside its range.
+    fn check_derived(&self) -> Result<(), ConfigError> {
+        let n = self.adc_samples as f64;
+        let window = n / self.sample_rate_hz;
+        for (quantity, value) in [
+            (Derived::Carrier, self.start_frequency_hz),
+            (Derived::MaxRange, self.max_range_m()),
+            (Derived::Bandwidth, self.slope_hz_per_s * window),
+            (Derived::SamplingWindow, window),
+            (
+                Derived::ChirpTime,
+                self.chirps_per_frame() as f64 * self.chirp_period_s,
+            ),
+        ] {
+            let (lo, hi) = quantity.bounds(self);
+            if !(value.is_finite() && (lo..=hi).contains(&value)) {
+                return Err(ConfigError::Implausible { quantity, value });
+            }
+        }
         Ok(())
+    }
+
+    /// Largest unambiguous range R_max = fs·c / (2·S), m, in f64 (see [`Self::max_range`]).
+    pub fn max_range_m(&self) -> f64 {
+        self.sample_rate_hz * SPEED_OF_LIGHT / (2.0 * self.slope_hz_per_s)
     }
 
     /// Carrier wavelength λ = c / f₀, m.
@@ -195,7 +305,7 @@ impl RadarConfig {
 
     /// Largest unambiguous range R_max = fs·c / (2·S), m.
     pub fn max_range(&self) -> f32 {
-        (self.sample_rate_hz * SPEED_OF_LIGHT / (2.0 * self.slope_hz_per_s)) as f32
+        self.max_range_m() as f32
     }
 
     /// Metres per bin of a range FFT of `fft_len` points: c·fs / (2·S·fft_len).
@@ -295,5 +405,60 @@ pub(crate) mod tests {
         let mut c = example();
         c.tx_order = Vec::from_slice(&[0, 2]).unwrap();
         assert_eq!(c.validate(), Err(ConfigError::TxOrder { slot: 1, tx: 2 }));
+    }
+
+    /// Issue #18, item 5: a slope of 1e-300 passed every per-field check and made R_max
+    /// infinite; each derived quantity is now bounded, at both ends.
+    #[test]
+    fn implausible_derived_quantities_are_named() {
+        let implausible = |edit: &dyn Fn(&mut RadarConfig)| {
+            let mut c = example();
+            edit(&mut c);
+            match c.validate() {
+                Err(ConfigError::Implausible { quantity, .. }) => Some(quantity),
+                _ => None,
+            }
+        };
+        assert_eq!(
+            implausible(&|c| c.slope_hz_per_s = 1e-300),
+            Some(Derived::MaxRange)
+        );
+        // Two samples at 1e12 Hz/s: R_max = 1.5 km is plausible, the sweep S·N/fs = 200 kHz
+        // (a 750 m range resolution) is not.
+        assert_eq!(
+            implausible(&|c| {
+                c.slope_hz_per_s = 1e12;
+                c.adc_samples = 2;
+            }),
+            Some(Derived::Bandwidth)
+        );
+        assert_eq!(
+            implausible(&|c| c.slope_hz_per_s = 1e16),
+            Some(Derived::MaxRange)
+        );
+        assert_eq!(
+            implausible(&|c| c.start_frequency_hz = 1e300),
+            Some(Derived::Carrier)
+        );
+        // 256 samples at 10 MHz take 25.6 µs: not in a 20 µs chirp.
+        assert_eq!(
+            implausible(&|c| c.chirp_period_s = 20e-6),
+            Some(Derived::SamplingWindow)
+        );
+        // 32 chirps of 60 µs = 1.92 ms: not in a 1 ms frame, but in a 1.92 ms one.
+        assert_eq!(
+            implausible(&|c| c.frame_period_s = 1e-3),
+            Some(Derived::ChirpTime)
+        );
+        assert_eq!(implausible(&|c| c.frame_period_s = 1.92e-3), None);
+        let err = ConfigError::Implausible {
+            quantity: Derived::MaxRange,
+            value: 1.5e306,
+        };
+        let text = std::string::ToString::to_string(&err);
+        assert!(
+            text.contains("maximum range") && text.contains("slope_hz_per_s"),
+            "{text}"
+        );
     }
 }

@@ -1,8 +1,10 @@
 //! Camera products of one frame: instance mask, monocular depth, instance classes.
 
-use crate::error::{InputError, read, read_json};
+use crate::error::{InputError, read_json};
+use crate::limits::{MAX_PNG_BYTES, open_regular};
 use serde::{Deserialize, Serialize};
-use std::io::Cursor;
+use std::fs::File;
+use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 /// Classes whose depth the method estimates.
@@ -70,6 +72,32 @@ impl CameraPaths {
             image: cam.join(format!("{f}_image.png")),
         }
     }
+
+    /// Checks that the files a frame reads resolve inside bundle folder `root` (canonical):
+    /// the image when a model `segments` or `estimates_depth`, the mask and instances unless
+    /// it segments, the depth unless it estimates it.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the first file that resolves outside (or cannot be resolved).
+    pub fn confined(
+        &self,
+        root: &Path,
+        segments: bool,
+        estimates_depth: bool,
+    ) -> Result<(), InputError> {
+        let files = [
+            (&self.image, segments || estimates_depth),
+            (&self.mask, !segments),
+            (&self.instances, !segments),
+            (&self.depth, !estimates_depth),
+        ];
+        for (path, read) in files {
+            if read && path.exists() {
+                crate::limits::confined(root, path)?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Reads and checks `F_instances.json`: ids unique and non-zero, classes lowercase words.
@@ -77,7 +105,7 @@ impl CameraPaths {
 /// # Errors
 /// [`InputError`] naming the file and field.
 pub fn read_instances(path: &Path) -> Result<Vec<Instance>, InputError> {
-    let file: InstancesFile = read_json(path)?;
+    let file: InstancesFile = read_json(path, crate::limits::MAX_INSTANCES_BYTES)?;
     let mut seen = std::collections::BTreeSet::new();
     for (i, inst) in file.instances.iter().enumerate() {
         if inst.id == 0 {
@@ -110,18 +138,29 @@ pub fn read_instances(path: &Path) -> Result<Vec<Instance>, InputError> {
     Ok(file.instances)
 }
 
-/// Header of a 16-bit grayscale PNG.
-fn check_png16<'b>(
-    path: &Path,
-    bytes: &'b [u8],
-    width: u32,
-    height: u32,
-) -> Result<png::Reader<Cursor<&'b [u8]>>, InputError> {
-    let mut decoder = png::Decoder::new(Cursor::new(bytes));
+/// A PNG file opened for streaming: a regular file of at most [`MAX_PNG_BYTES`], read as the
+/// decoder asks (the header check reads only up to the first image data).
+pub(super) type PngReader = png::Reader<BufReader<File>>;
+
+/// Opens PNG `path` (no transformations) and reads its header.
+///
+/// # Errors
+/// [`InputError`] naming the file: not a bounded regular file, or not a PNG.
+pub(super) fn open_png(path: &Path) -> Result<PngReader, InputError> {
+    let (file, _) = open_regular(path, MAX_PNG_BYTES)?;
+    // The decoder's own allocations: a row or two and the chunk buffers; the image goes into
+    // the caller's buffer, whose size the `[camera]` table bounds.
+    let limits = png::Limits { bytes: 64 << 20 };
+    let mut decoder = png::Decoder::new_with_limits(BufReader::new(file), limits);
     decoder.set_transformations(png::Transformations::IDENTITY);
-    let reader = decoder
+    decoder
         .read_info()
-        .map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))?;
+        .map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))
+}
+
+/// Opens the 16-bit grayscale PNG `path` and checks its header against the expected size.
+fn check_png16(path: &Path, width: u32, height: u32) -> Result<PngReader, InputError> {
+    let reader = open_png(path)?;
     let info = reader.info();
     if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Sixteen {
         return Err(InputError::file(
@@ -163,8 +202,7 @@ pub(super) fn check_size(
 /// # Errors
 /// [`InputError`] naming the file.
 pub fn check_png16_header(path: &Path, width: u32, height: u32) -> Result<(), InputError> {
-    let bytes = read(path)?;
-    check_png16(path, &bytes, width, height).map(|_| ())
+    check_png16(path, width, height).map(|_| ())
 }
 
 /// Decodes a 16-bit grayscale PNG of the given size into row-major values.
@@ -172,8 +210,7 @@ pub fn check_png16_header(path: &Path, width: u32, height: u32) -> Result<(), In
 /// # Errors
 /// [`InputError`] naming the file.
 pub fn read_png16(path: &Path, width: u32, height: u32) -> Result<Vec<u16>, InputError> {
-    let bytes = read(path)?;
-    let mut reader = check_png16(path, &bytes, width, height)?;
+    let mut reader = check_png16(path, width, height)?;
     let mut buf = vec![0u8; width as usize * height as usize * 2];
     reader
         .next_frame(&mut buf)

@@ -6,8 +6,7 @@
 //! Image decoding and the conversion to bundle products are here and always built.
 
 use super::camera::Instance;
-use crate::error::{InputError, read};
-use std::io::Cursor;
+use crate::error::InputError;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -30,12 +29,7 @@ pub struct RgbSamples {
 /// # Errors
 /// [`InputError`] naming the file: unreadable, another colour type or size, corrupt data.
 pub fn read_rgb(path: &Path, width: u32, height: u32) -> Result<RgbSamples, InputError> {
-    let bytes = read(path)?;
-    let mut decoder = png::Decoder::new(Cursor::new(&bytes[..]));
-    decoder.set_transformations(png::Transformations::IDENTITY);
-    let mut reader = decoder
-        .read_info()
-        .map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))?;
+    let mut reader = super::camera::open_png(path)?;
     let info = reader.info();
     let channels = match info.color_type {
         png::ColorType::Rgb => 3,

@@ -55,7 +55,7 @@ pub fn parse_radar_config(path: &Path, text: &str) -> Result<RadarConfig, InputE
 /// # Errors
 /// [`InputError`] naming the file and field.
 pub fn read_radar_config(path: &Path) -> Result<RadarConfig, InputError> {
-    parse_radar_config(path, &read_text(path)?)
+    parse_radar_config(path, &read_text(path, crate::limits::MAX_TOML_BYTES)?)
 }
 
 /// Opens a bare capture `bin` with the radar config in `config`.

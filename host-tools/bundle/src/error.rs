@@ -94,21 +94,22 @@ impl InputError {
     }
 }
 
-/// Reads a whole file, naming it on failure.
-pub fn read(path: &Path) -> Result<Vec<u8>, InputError> {
-    std::fs::read(path).map_err(|e| InputError::io(path, e))
+/// Reads a whole regular file of at most `limit` bytes, naming it on failure
+/// ([`crate::limits`]).
+pub fn read(path: &Path, limit: u64) -> Result<Vec<u8>, InputError> {
+    crate::limits::read_bounded(path, limit)
 }
 
-/// Reads a whole UTF-8 file, naming it on failure.
-pub fn read_text(path: &Path) -> Result<String, InputError> {
-    let bytes = read(path)?;
+/// Reads a whole UTF-8 regular file of at most `limit` bytes, naming it on failure.
+pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
+    let bytes = read(path, limit)?;
     String::from_utf8(bytes).map_err(|e| InputError::file(path, format!("not UTF-8 text ({e})")))
 }
 
-/// Reads and deserializes a JSON file; a type error names the path of the failing field
-/// (e.g. `frames[0].objects[2].depth_m`).
-pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, InputError> {
-    let bytes = read(path)?;
+/// Reads and deserializes a JSON file of at most `limit` bytes; a type error names the path of
+/// the failing field (e.g. `frames[0].objects[2].depth_m`).
+pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path, limit: u64) -> Result<T, InputError> {
+    let bytes = read(path, limit)?;
     let de = &mut serde_json::Deserializer::from_slice(&bytes);
     serde_path_to_error::deserialize(de).map_err(|e| {
         let field = e.path().to_string();

@@ -35,6 +35,29 @@ impl<'a> Fields<'a> {
         InputError::field(self.path, self.name(key), problem)
     }
 
+    /// Checks that every key of the table is one of `known`: a misspelt key (`tx_elevaton`)
+    /// is an error with the nearest known key, never silently ignored.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the first unknown key.
+    pub fn only(&self, known: &[&str]) -> Result<(), InputError> {
+        let Some(key) = self.table.keys().find(|k| !known.contains(&k.as_str())) else {
+            return Ok(());
+        };
+        let nearest = known
+            .iter()
+            .map(|k| (strsim::levenshtein(key, k), *k))
+            .min()
+            .filter(|&(d, k)| d <= 3.max(k.len() / 3));
+        Err(self.error(
+            key,
+            match nearest {
+                Some((_, k)) => format!("unknown key; did you mean `{}`?", self.name(k)),
+                None => format!("unknown key; this table has {}", known.join(", ")),
+            },
+        ))
+    }
+
     /// Whether `key` is present.
     pub fn has(&self, key: &str) -> bool {
         self.table.contains_key(key)

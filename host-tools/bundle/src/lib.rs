@@ -15,6 +15,7 @@ pub mod error;
 pub mod fields;
 pub mod geometry;
 pub mod lidar;
+pub mod limits;
 pub mod pose;
 
 mod camera;
@@ -61,6 +62,8 @@ impl OpenOptions {
 /// An opened, checked scene bundle.
 #[derive(Debug)]
 pub struct Bundle {
+    /// The canonical bundle folder, which holds every file read.
+    root: PathBuf,
     dir: PathBuf,
     /// The parsed `scene.toml`.
     pub scene: Scene,
@@ -106,7 +109,11 @@ impl Bundle {
                 "is not a folder; give the bundle folder that holds scene.toml",
             ));
         }
-        let scene = Scene::read(&dir.join("scene.toml"))?;
+        let root = dir.canonicalize().map_err(|e| InputError::io(dir, e))?;
+        let scene_file = dir.join("scene.toml");
+        limits::confined(&root, &scene_file)?;
+        let scene = Scene::read(&scene_file)?;
+        limits::confined(&root, &scene.adc_file)?;
         let radar = RadarFile::open(&scene.adc_file, scene.radar.clone(), options.iq_order)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let models = options.camera_models.as_deref();
@@ -115,6 +122,7 @@ impl Bundle {
         let mut instances = Vec::new();
         for f in 0..scene.radar.frames {
             let p = CameraPaths::new(dir, f);
+            p.confined(&root, segments, estimates_depth)?;
             if (segments || estimates_depth) && !p.image.is_file() {
                 return Err(InputError::file(
                     &p.image,
@@ -134,11 +142,13 @@ impl Bundle {
         }
         let truth_path = dir.join("truth.json");
         let truth = if truth_path.exists() {
+            limits::confined(&root, &truth_path)?;
             Some(Truth::read(&truth_path, scene.radar.frames)?)
         } else {
             None
         };
         Ok(Self {
+            root,
             dir: dir.to_owned(),
             scene,
             truth,
@@ -181,6 +191,12 @@ impl Bundle {
     /// [`InputError`] naming the file (or the model that failed on it).
     pub fn camera_frame(&self, frame: u32) -> Result<CameraFrame, InputError> {
         let p = CameraPaths::new(&self.dir, frame);
+        let models = self.models.as_deref();
+        p.confined(
+            &self.root,
+            models.is_some_and(CameraModels::segments),
+            models.is_some_and(CameraModels::estimates_depth),
+        )?;
         let (w, h) = (self.scene.camera.width, self.scene.camera.height);
         let computed = match &self.models {
             Some(m) => m.run(&p.image, w, h)?,

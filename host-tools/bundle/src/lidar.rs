@@ -89,7 +89,7 @@ pub fn write(path: &Path, points: &[[f64; 3]]) -> Result<(), InputError> {
 /// # Errors
 /// [`InputError`] naming the file: unreadable, another layout, or truncated.
 pub fn read(path: &Path) -> Result<Vec<[f64; 3]>, InputError> {
-    let bytes = crate::error::read(path)?;
+    let bytes = crate::error::read(path, crate::limits::MAX_TRUTH_BYTES)?;
     let end = b"end_header\n";
     let at = bytes
         .windows(end.len())

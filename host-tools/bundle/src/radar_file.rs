@@ -24,8 +24,7 @@ impl RadarFile {
     /// # Errors
     /// [`InputError`] if the file cannot be read or its size does not match the configuration.
     pub fn open(path: &Path, mut config: RadarConfig, order: IqOrder) -> Result<Self, InputError> {
-        let file = File::open(path).map_err(|e| InputError::io(path, e))?;
-        let size = file.metadata().map_err(|e| InputError::io(path, e))?.len();
+        let (file, size) = crate::limits::open_regular(path, u64::MAX)?;
         let frame_bytes = (config.samples_per_frame() * 4) as u64;
         let describe = |c: &RadarConfig| {
             format!(

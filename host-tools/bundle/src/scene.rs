@@ -2,6 +2,7 @@
 
 use crate::error::{InputError, read_text};
 use crate::fields::{Fields, parse_toml};
+use crate::limits::{MAX_FRAME_BYTES, MAX_FRAMES, MAX_PIXELS};
 use metamoran_dsp::config::{ConfigError, MAX_RX, MAX_SLOTS, MAX_TX, RadarConfig};
 use std::path::{Path, PathBuf};
 
@@ -76,8 +77,9 @@ impl Scene {
     /// # Errors
     /// [`InputError`] naming the first bad field.
     pub fn read(path: &Path) -> Result<Self, InputError> {
-        let table = parse_toml(path, &read_text(path)?)?;
+        let table = parse_toml(path, &read_text(path, crate::limits::MAX_TOML_BYTES)?)?;
         let root = Fields::root(path, &table);
+        root.only(&["format", "name", "radar", "camera"])?;
         let format = root.string("format")?;
         if format != FORMAT {
             return Err(root.error(
@@ -89,10 +91,16 @@ impl Scene {
         let radar_fields = root.table("radar")?;
         let radar = parse_radar(&radar_fields, FramesField::Required)?;
         let adc_file = radar_fields.string("adc_file")?;
-        if adc_file.is_empty() || Path::new(adc_file).is_absolute() {
+        let inside = Path::new(adc_file)
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_)));
+        if adc_file.is_empty() || !inside {
             return Err(radar_fields.error(
                 "adc_file",
-                "must be a file name relative to the bundle folder",
+                format!(
+                    "\"{adc_file}\" must be a file name inside the bundle folder (no `..`, \
+                     no absolute path)"
+                ),
             ));
         }
         let layout = radar_fields.string("adc_layout")?;
@@ -117,6 +125,25 @@ impl Scene {
     }
 }
 
+/// Every key of a `[radar]` table: bundle.md's, and the README's elevation extension.
+pub const RADAR_KEYS: [&str; 15] = [
+    "start_frequency_hz",
+    "slope_hz_per_s",
+    "sample_rate_hz",
+    "adc_samples",
+    "chirp_period_s",
+    "chirps_per_tx",
+    "frames",
+    "frame_period_s",
+    "tx_positions",
+    "rx_positions",
+    "tx_order",
+    "adc_file",
+    "adc_layout",
+    "tx_elevation",
+    "rx_elevation",
+];
+
 /// Whether `frames` must be given (bundles) or may be derived from the file size (bare captures).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FramesField {
@@ -131,6 +158,7 @@ pub enum FramesField {
 /// # Errors
 /// [`InputError`] naming the first bad field.
 pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, InputError> {
+    f.only(&RADAR_KEYS)?;
     let list_error = |key: &str, max: usize| f.error(key, format!("has more than {max} entries"));
     let positions = |key: &str| -> Result<Vec<i16>, InputError> {
         let v = f.int_list(key, i16::MIN as i64, i16::MAX as i64)?;
@@ -151,7 +179,7 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
         .ok_or_else(|| list_error("tx_order", MAX_SLOTS))?;
     let frames = match frames {
         FramesField::Optional if !f.has("frames") => 0,
-        _ => f.integer("frames", 1, u32::MAX as i64)? as u32,
+        _ => f.integer("frames", 1, MAX_FRAMES as i64)? as u32,
     };
     let max_fft = metamoran_dsp::fft::MAX_LEN as i64;
     let adc_samples = f.integer("adc_samples", 2, max_fft)?;
@@ -174,12 +202,23 @@ pub fn parse_radar(f: &Fields<'_>, frames: FramesField) -> Result<RadarConfig, I
         rx_positions,
         tx_order,
     };
+    let frame_bytes = config.samples_per_frame() as u64 * 4;
+    if frame_bytes > MAX_FRAME_BYTES {
+        return Err(f.error(
+            "adc_samples",
+            format!(
+                "a frame of adc_samples × chirps_per_tx × len(tx_order) × len(rx_positions) × 4 \
+                 = {frame_bytes} bytes is over the limit of {MAX_FRAME_BYTES} bytes per frame"
+            ),
+        ));
+    }
     config.validate().map_err(|e| match e {
         ConfigError::NotPositive(field) => f.error(field, "must be a positive, finite number"),
         ConfigError::AdcSamples(_) => f.error("adc_samples", e.to_string()),
         ConfigError::ChirpsPerTx(_) => f.error("chirps_per_tx", e.to_string()),
         ConfigError::Empty(field) => f.error(field, e.to_string()),
         ConfigError::TxOrder { slot, .. } => f.error(&format!("tx_order[{slot}]"), e.to_string()),
+        ConfigError::Implausible { quantity, .. } => f.error(quantity.field(), e.to_string()),
         _ => f.error("radar", e.to_string()),
     })?;
     Ok(config)
@@ -195,6 +234,18 @@ fn bounded<T, const N: usize>(v: Vec<T>) -> Option<heapless::Vec<T, N>> {
 }
 
 fn parse_camera(f: &Fields<'_>) -> Result<CameraConfig, InputError> {
+    f.only(&[
+        "width",
+        "height",
+        "fx",
+        "fy",
+        "cx",
+        "cy",
+        "translation_m",
+        "yaw_deg",
+        "pitch_deg",
+        "roll_deg",
+    ])?;
     let translation = f.f64_list("translation_m")?;
     let translation_m: [f64; 3] = translation.try_into().map_err(|v: Vec<f64>| {
         f.error(
@@ -202,9 +253,20 @@ fn parse_camera(f: &Fields<'_>) -> Result<CameraConfig, InputError> {
             format!("has {} entries; give [x, y, z] in metres", v.len()),
         )
     })?;
+    let width = f.integer("width", 1, 65535)? as u32;
+    let height = f.integer("height", 1, 65535)? as u32;
+    if width as u64 * height as u64 > MAX_PIXELS {
+        return Err(f.error(
+            "width",
+            format!(
+                "{width} × {height} = {} pixels is over the limit of {MAX_PIXELS} pixels",
+                width as u64 * height as u64
+            ),
+        ));
+    }
     Ok(CameraConfig {
-        width: f.integer("width", 1, 65535)? as u32,
-        height: f.integer("height", 1, 65535)? as u32,
+        width,
+        height,
         fx: f.positive("fx")?,
         fy: f.positive("fy")?,
         cx: f.f64("cx")?,

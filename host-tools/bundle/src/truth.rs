@@ -64,7 +64,7 @@ impl Truth {
     /// # Errors
     /// [`InputError`] naming the file and field.
     pub fn read(path: &Path, frames: u32) -> Result<Self, InputError> {
-        let truth: Truth = read_json(path)?;
+        let truth: Truth = read_json(path, crate::limits::MAX_TRUTH_BYTES)?;
         for (i, f) in truth.frames.iter().enumerate() {
             if f.frame >= frames {
                 return Err(InputError::field(

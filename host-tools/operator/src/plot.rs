@@ -49,6 +49,18 @@ fn font() -> Result<(), OperatorError> {
     .map_err(OperatorError::Font)
 }
 
+/// `lo..hi` if both ends are finite and `lo < hi`: the plotting library loops forever over an
+/// infinite axis (issue #18, item 5), so no plot is drawn on one.
+fn finite_axis(lo: f64, hi: f64) -> Result<std::ops::Range<f64>, String> {
+    if lo.is_finite() && hi.is_finite() && lo < hi {
+        Ok(lo..hi)
+    } else {
+        Err(format!(
+            "cannot draw an axis from {lo} to {hi}; the radar configuration gives no finite range"
+        ))
+    }
+}
+
 fn err(path: &Path) -> impl Fn(String) -> OperatorError + '_ {
     move |e| OperatorError::output(path, "draw the plot", e)
 }
@@ -90,7 +102,8 @@ fn map_panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let max_range = map.bins as f64 * map.bin_m;
+    let ranges = finite_axis(0.0, map.bins as f64 * map.bin_m)?;
+    let max_range = ranges.end;
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -193,7 +206,10 @@ pub fn score(path: &Path, frame: u32, view: &ObjectView) -> Result<(), OperatorE
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(d0..d1, 0.0..top.max(1e-12))
+        .build_cartesian_2d(
+            finite_axis(d0, d1).map_err(&e)?,
+            finite_axis(0.0, top.max(1e-12)).map_err(&e)?,
+        )
         .map_err(|x| e(x.to_string()))?;
     chart
         .configure_mesh()

@@ -56,6 +56,10 @@ impl Mode {
     }
 }
 
+/// The widest azimuth a forward-looking array sees, degrees: past it the object is behind
+/// the radar.
+pub const MAX_AZIMUTH_DEG: f64 = 90.0;
+
 /// One object's estimate (cli.md).
 #[derive(Clone, Debug, Serialize)]
 pub struct ObjectEstimate {
@@ -103,6 +107,26 @@ impl ObjectEstimate {
             confidence_db: None,
             confidence: None,
             evidence: None,
+        }
+    }
+
+    /// Withdraws a detection the radar cannot have made: a depth that is not finite or not
+    /// below `max_range_m` (a saturated conversion), or an azimuth outside ±90° (behind the
+    /// array). It becomes "not detected" with confidence 0, as cli.md's `detected: false`.
+    pub fn keep_in_view(&mut self, max_range_m: f64) {
+        let depth_ok = self
+            .depth_m
+            .is_none_or(|d| d.is_finite() && (0.0..max_range_m).contains(&d));
+        let azimuth_ok = self
+            .azimuth_deg
+            .is_none_or(|a| a.is_finite() && a.abs() <= MAX_AZIMUTH_DEG);
+        if self.detected && !(depth_ok && azimuth_ok) {
+            self.detected = false;
+            self.depth_m = None;
+            self.azimuth_deg = None;
+            self.radial_velocity_mps = None;
+            self.points.clear();
+            self.confidence = Some(0.0);
         }
     }
 
@@ -241,10 +265,11 @@ pub fn process_streamed(
                     .collect()
             }
         };
-        let result = FrameResult {
-            frame: f,
-            objects: results,
-        };
+        let mut objects: Vec<ObjectEstimate> = results;
+        for o in &mut objects {
+            o.keep_in_view(bundle.scene.radar.max_range_m());
+        }
+        let result = FrameResult { frame: f, objects };
         on_frame(FrameEvent {
             result: &result,
             of: bundle.frames(),
