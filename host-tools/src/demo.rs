@@ -366,9 +366,22 @@ fn install_perimeter(out: &Path, given: Option<&Path>) -> Result<Perimeter, crat
     let perimeter_file = out.join("perimeter.toml");
     Ok(match given {
         Some(p) => {
-            let loaded = Perimeter::load(p)?;
-            std::fs::copy(p, &perimeter_file)
-                .map_err(|e| format!("{}: cannot copy ({e})", perimeter_file.display()))?;
+            let scene_dir = out.join("scene");
+            if let (Ok(file), Ok(replaced)) = (p.canonicalize(), scene_dir.canonicalize())
+                && file.starts_with(&replaced)
+            {
+                return Err(format!(
+                    "--perimeter {}: the demo replaces {} on every run; keep the perimeter \
+                     elsewhere",
+                    p.display(),
+                    scene_dir.display()
+                )
+                .into());
+            }
+            let (loaded, text) = Perimeter::load_text(p)?;
+            // Written from what was read, atomically: `--perimeter OUT/perimeter.toml` reads
+            // the file and puts the same bytes back.
+            write(&perimeter_file, text.as_bytes())?;
             loaded
         }
         None => {

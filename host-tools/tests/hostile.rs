@@ -287,3 +287,37 @@ fn nothing_outside_the_field_of_view_is_detected() {
         );
     }
 }
+
+/// Item 8: `demo --perimeter OUT/perimeter.toml --out OUT` copied the file onto itself,
+/// truncating it to 0 bytes, and exited 0.
+#[test]
+fn the_demo_never_destroys_its_perimeter() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let demo = |extra: &[&str]| {
+        let mut args = vec![
+            "demo",
+            "--edge",
+            "in-process",
+            "--no-live",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        metamoran(&args)
+    };
+    let first = demo(&[]);
+    assert!(first.status.success(), "{}", first.stderr);
+    let perimeter = out.join("perimeter.toml");
+    let before = std::fs::read(&perimeter).unwrap();
+    assert!(!before.is_empty());
+    let again = demo(&["--perimeter", perimeter.to_str().unwrap()]);
+    assert!(again.status.success(), "{}", again.stderr);
+    assert_eq!(std::fs::read(&perimeter).unwrap(), before);
+
+    // A perimeter inside the folder the demo replaces is refused, and left where it is.
+    let inside = out.join("scene/perimeter.toml");
+    std::fs::write(&inside, &before).unwrap();
+    demo(&["--perimeter", inside.to_str().unwrap()]).refuses(&["--perimeter", "replaces"]);
+    assert_eq!(std::fs::read(&inside).unwrap(), before);
+}

@@ -18,6 +18,7 @@
 //! ```
 
 use crate::OperatorError;
+use metamoran_bundle::limits::MAX_TOML_BYTES;
 use metamoran_process::ObjectEstimate;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -62,17 +63,30 @@ impl Perimeter {
     /// [`OperatorError::Perimeter`] naming the file and the field that is missing, malformed or
     /// out of range.
     pub fn load(path: &Path) -> Result<Self, OperatorError> {
+        Self::load_text(path).map(|(p, _)| p)
+    }
+
+    /// [`Perimeter::load`], also returning the file's text.
+    ///
+    /// # Errors
+    /// As [`Perimeter::load`].
+    pub fn load_text(path: &Path) -> Result<(Self, String), OperatorError> {
         let source_name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| OperatorError::Perimeter {
-            source_name: source_name.clone(),
-            problem: format!(
-                "cannot read the perimeter file ({e}); give a TOML file as in the README"
-            ),
+        let bytes = metamoran_bundle::limits::read_bounded(path, MAX_TOML_BYTES).map_err(|e| {
+            OperatorError::Perimeter {
+                source_name: source_name.clone(),
+                problem: format!("{e}; give a TOML file as in the README"),
+            }
         })?;
-        Self::parse_problem(&text).map_err(|problem| OperatorError::Perimeter {
+        let text = String::from_utf8(bytes).map_err(|_| OperatorError::Perimeter {
+            source_name: source_name.clone(),
+            problem: "not UTF-8 text; give a TOML file as in the README".into(),
+        })?;
+        let perimeter = Self::parse_problem(&text).map_err(|problem| OperatorError::Perimeter {
             source_name,
             problem,
-        })
+        })?;
+        Ok((perimeter, text))
     }
 
     /// Parses and checks perimeter TOML.
@@ -102,25 +116,149 @@ impl Perimeter {
         if !self.min_confidence_db.is_finite() {
             return Err("min_confidence_db: give a finite number of dB".into());
         }
+        check_classes(&self.restricted_classes)?;
         if self.zones.is_empty() {
             return Err("zone: add at least one [[zone]] with a name and a polygon".into());
         }
         for (i, z) in self.zones.iter().enumerate() {
-            if z.polygon.len() < 3 {
+            if z.name.trim().is_empty() {
+                return Err(format!("zone[{i}].name: give the zone a name"));
+            }
+            if let Some(j) = self.zones[..i].iter().position(|o| o.name == z.name) {
                 return Err(format!(
-                    "zone[{i}].polygon ({}): give at least 3 [x, z] vertices",
+                    "zone[{i}].name: \"{}\" is also zone[{j}]'s name; alerts name zones, so \
+                     give each its own",
                     z.name
                 ));
             }
-            if z.polygon.iter().flatten().any(|v| !v.is_finite()) {
-                return Err(format!(
-                    "zone[{i}].polygon ({}): vertices must be finite metres",
-                    z.name
-                ));
-            }
+            check_polygon(&z.polygon)
+                .map_err(|problem| format!("zone[{i}].polygon ({}): {problem}", z.name))?;
         }
         Ok(())
     }
+}
+
+/// Checks `restricted_classes`: at least one, each an object of interest of bundle.md
+/// (the only classes whose position is measured), lowercase, none twice.
+fn check_classes(classes: &[String]) -> Result<(), String> {
+    let known = metamoran_bundle::OBJECTS_OF_INTEREST;
+    if classes.is_empty() {
+        return Err(format!(
+            "restricted_classes: empty, so no object could ever raise an alert; list some of {}",
+            known.join(", ")
+        ));
+    }
+    for (i, c) in classes.iter().enumerate() {
+        if known.contains(&c.as_str()) {
+            if classes[..i].contains(c) {
+                return Err(format!("restricted_classes[{i}]: \"{c}\" is listed twice"));
+            }
+            continue;
+        }
+        let lower = c.to_lowercase();
+        return Err(if known.contains(&lower.as_str()) {
+            format!(
+                "restricted_classes[{i}]: \"{c}\": class names are lowercase; write \"{lower}\""
+            )
+        } else {
+            format!(
+                "restricted_classes[{i}]: \"{c}\" is not a class whose position is measured; \
+                 use {}",
+                known.join(", ")
+            )
+        });
+    }
+    Ok(())
+}
+
+/// Twice the signed area of a polygon (shoelace), m²: positive counter-clockwise.
+fn twice_area(polygon: &[[f64; 2]]) -> f64 {
+    (0..polygon.len())
+        .map(|i| {
+            let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum()
+}
+
+/// Whether closed segments `p1–p2` and `q1–q2` share a point.
+fn segments_meet(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2]) -> bool {
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let on = |a: [f64; 2], b: [f64; 2], p: [f64; 2]| {
+        p[0] >= a[0].min(b[0])
+            && p[0] <= a[0].max(b[0])
+            && p[1] >= a[1].min(b[1])
+            && p[1] <= a[1].max(b[1])
+    };
+    let (d1, d2) = (cross(q1, q2, p1), cross(q1, q2, p2));
+    let (d3, d4) = (cross(p1, p2, q1), cross(p1, p2, q2));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && on(q1, q2, p1))
+        || (d2 == 0.0 && on(q1, q2, p2))
+        || (d3 == 0.0 && on(p1, p2, q1))
+        || (d4 == 0.0 && on(p1, p2, q2))
+}
+
+/// Smallest zone area, m²: a zone must be able to hold a person.
+pub const MIN_ZONE_AREA_M2: f64 = 0.25;
+
+/// Checks that `polygon` is a simple polygon (edges meet only at shared vertices, none
+/// repeated) of finite vertices enclosing at least [`MIN_ZONE_AREA_M2`]. O(vertices²).
+fn check_polygon(polygon: &[[f64; 2]]) -> Result<(), String> {
+    let n = polygon.len();
+    if n < 3 {
+        return Err("give at least 3 [x, z] vertices".into());
+    }
+    if polygon.iter().flatten().any(|v| !v.is_finite()) {
+        return Err("vertices must be finite metres".into());
+    }
+    for i in 0..n {
+        if let Some(j) = polygon[..i].iter().position(|&v| v == polygon[i]) {
+            return Err(format!(
+                "vertex {i} repeats vertex {j}; list each corner once (the polygon closes itself)"
+            ));
+        }
+    }
+    let edge = |i: usize| (polygon[i], polygon[(i + 1) % n]);
+    for i in 0..n {
+        for j in i + 1..n {
+            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+            let ((a, b), (c, d)) = (edge(i), edge(j));
+            let meet = if adjacent {
+                // Adjacent edges share one vertex; they may not fold back over each other.
+                let (shared, p, q) = if j == i + 1 { (b, a, d) } else { (a, b, c) };
+                let cross = (p[0] - shared[0]) * (q[1] - shared[1])
+                    - (p[1] - shared[1]) * (q[0] - shared[0]);
+                let dot = (p[0] - shared[0]) * (q[0] - shared[0])
+                    + (p[1] - shared[1]) * (q[1] - shared[1]);
+                cross == 0.0 && dot > 0.0
+            } else {
+                segments_meet(a, b, c, d)
+            };
+            if meet {
+                return Err(format!(
+                    "edges {i}–{} and {j}–{} cross; give the corners in order around the zone \
+                     (a simple polygon)",
+                    (i + 1) % n,
+                    (j + 1) % n
+                ));
+            }
+        }
+    }
+    let area = twice_area(polygon).abs() / 2.0;
+    if area < MIN_ZONE_AREA_M2 {
+        return Err(format!(
+            "encloses {area} m²; a zone needs at least {MIN_ZONE_AREA_M2} m² (are the corners on \
+             one line?)"
+        ));
+    }
+    Ok(())
 }
 
 /// Signed distance from `p` to the polygon's boundary, metres: positive inside, negative outside
@@ -410,15 +548,109 @@ mod tests {
         assert_eq!(g.zones_of(2), vec!["yard"]);
     }
 
+    /// Issue #18, item 7: each of these loaded silently and raised no alert.
+    #[test]
+    fn perimeters_that_cannot_work_are_refused() {
+        let file = |classes: &str, polygon: &str| {
+            format!("restricted_classes = {classes}\n[[zone]]\nname = \"z\"\npolygon = {polygon}\n")
+        };
+        let square = "[[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]";
+        let err = |text: String| Perimeter::parse(&text).unwrap_err().to_string();
+        assert!(Perimeter::parse(&file("[\"person\"]", square)).is_ok());
+        let e = err(file("[]", square));
+        assert!(
+            e.contains("restricted_classes") && e.contains("person"),
+            "{e}"
+        );
+        let e = err(file("[\"Person\"]", square));
+        assert!(
+            e.contains("restricted_classes[0]") && e.contains("\"person\""),
+            "{e}"
+        );
+        let e = err(file("[\"car\", \"dog\"]", square));
+        assert!(
+            e.contains("restricted_classes[1]") && e.contains("\"dog\""),
+            "{e}"
+        );
+        let e = err(file("[\"car\", \"car\"]", square));
+        assert!(
+            e.contains("restricted_classes[1]") && e.contains("twice"),
+            "{e}"
+        );
+        // A bow tie: edges 1–2 and 3–0 cross.
+        let e = err(file(
+            "[\"car\"]",
+            "[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0], [4.0, 4.0]]",
+        ));
+        assert!(e.contains("zone[0].polygon") && e.contains("cross"), "{e}");
+        // Three corners on a line: zero area (and the middle edge folds back).
+        let e = err(file("[\"car\"]", "[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0]]"));
+        assert!(e.contains("zone[0].polygon"), "{e}");
+        let e = err(file(
+            "[\"car\"]",
+            "[[0.0, 0.0], [1.0, 0.0], [1.0, 0.1], [0.0, 0.1]]",
+        ));
+        assert!(e.contains("m²"), "{e}");
+        let e = err(file(
+            "[\"car\"]",
+            "[[0.0, 0.0], [4.0, 0.0], [4.0, 0.0], [4.0, 4.0]]",
+        ));
+        assert!(e.contains("vertex 2 repeats vertex 1"), "{e}");
+        // A spike folding back along its own edge.
+        let e = err(file(
+            "[\"car\"]",
+            "[[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [4.0, 2.0], [0.0, 4.0]]",
+        ));
+        assert!(e.contains("cross"), "{e}");
+        let two = format!(
+            "{}[[zone]]\nname = \"z\"\npolygon = {square}\n",
+            file("[\"car\"]", square)
+        );
+        assert!(err(two).contains("zone[1].name"));
+    }
+
+    /// Two zones, overlapping: an object is in both, then only in the second, and each zone's
+    /// alerts name that zone.
+    #[test]
+    fn each_zone_keeps_its_own_state() {
+        let p = Perimeter::parse(
+            "restricted_classes = [\"car\"]\nhysteresis_m = 0.5\n\
+             [[zone]]\nname = \"near\"\npolygon = [[-5.0, 0.0], [5.0, 0.0], [5.0, 10.0], [-5.0, 10.0]]\n\
+             [[zone]]\nname = \"far\"\npolygon = [[-5.0, 8.0], [5.0, 8.0], [5.0, 20.0], [-5.0, 20.0]]\n",
+        )
+        .unwrap();
+        let mut g = Geofence::new(p);
+        let names = |a: &[Alert]| {
+            a.iter()
+                .map(|a| (a.kind, a.zone.clone()))
+                .collect::<Vec<_>>()
+        };
+        let a = g.update(0, 0.0, &[object(1, "car", 0.0, 9.0, None)]);
+        assert_eq!(
+            names(&a),
+            [
+                (AlertKind::Enter, "near".into()),
+                (AlertKind::Enter, "far".into())
+            ]
+        );
+        assert_eq!(g.zones_of(1), vec!["near", "far"]);
+        let a = g.update(1, 0.1, &[object(1, "car", 0.0, 15.0, None)]);
+        assert_eq!(names(&a), [(AlertKind::Exit, "near".into())]);
+        assert_eq!(g.zones_of(1), vec!["far"]);
+        // Another object has its own state.
+        let a = g.update(2, 0.2, &[object(2, "car", 0.0, 5.0, None)]);
+        assert_eq!(names(&a), [(AlertKind::Enter, "near".into())]);
+    }
+
     #[test]
     fn bad_files_name_the_field() {
         let e = Perimeter::parse(
-            "restricted_classes = []\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0]]\n",
+            "restricted_classes = [\"car\"]\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0]]\n",
         )
         .unwrap_err()
         .to_string();
         assert!(e.contains("zone[0].polygon"), "{e}");
-        let e = Perimeter::parse("restricted_classes = []\nhysteresis_m = -1.0\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]\n")
+        let e = Perimeter::parse("restricted_classes = [\"car\"]\nhysteresis_m = -1.0\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]\n")
             .unwrap_err()
             .to_string();
         assert!(e.contains("hysteresis_m"), "{e}");

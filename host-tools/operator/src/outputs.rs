@@ -11,12 +11,30 @@ use metamoran_process::inspect::inspect_frame;
 use metamoran_process::{Mode, ProcessOutput};
 use std::path::Path;
 
-/// Writes `bytes` to `path`, naming it on failure.
+/// Writes `bytes` to `path` through a temporary file beside it renamed into place: a reader
+/// sees the old file or the new one, never a truncated one, and an input that happens to be
+/// `path` is read whole before it is replaced (issue #18, item 8).
 ///
 /// # Errors
 /// [`OperatorError::Output`] naming the file.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<(), OperatorError> {
-    std::fs::write(path, bytes).map_err(|e| OperatorError::output(path, "write", e))
+    let fail = |e: std::io::Error| OperatorError::output(path, "write", e);
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(fail)?;
+    std::io::Write::write_all(&mut tmp, bytes).map_err(fail)?;
+    // The temporary file is private (0600); the output is as readable as `std::fs::write`
+    // leaves a file under the usual umask.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::Permissions::from_mode(0o644);
+        tmp.as_file().set_permissions(mode).map_err(fail)?;
+    }
+    tmp.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
 }
 
 /// `results.json` (cli.md's shape), per frame `depth_F.png` (KITTI, through `camera`) and
