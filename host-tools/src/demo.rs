@@ -67,6 +67,8 @@ pub struct DemoReport {
     pub link: Option<String>,
     /// What went to the MQTT broker, if one was given.
     pub mqtt: Option<String>,
+    /// Frames that could not be processed, and why the run stopped early, if it did.
+    pub faults: Option<String>,
     /// Files written, relative to `out`.
     pub files: Vec<String>,
 }
@@ -119,6 +121,9 @@ impl fmt::Display for DemoReport {
         }
         if let Some(m) = &self.mqtt {
             writeln!(f, "published: {m}")?;
+        }
+        if let Some(faults) = &self.faults {
+            writeln!(f, "\nfaults (the other frames were processed):\n{faults}")?;
         }
         writeln!(f, "\noutputs in {}:", self.out.display())?;
         for file in &self.files {
@@ -254,6 +259,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         .transpose()?;
     let published = Published::default();
     let mut view = if live { Some(LiveView::start()?) } else { None };
+    let (runner, words, fallback) = plan(edge, firmware.as_deref())?;
     let mut run_on = |runner: Runner, words: &str| {
         let mut op = Operator {
             fence: Geofence::new(perimeter.clone()),
@@ -278,9 +284,13 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
             runner,
         };
         let r = process_streamed(bundle, &options, |e| op.frame(e))?;
+        if let Some(why) = &r.0.stopped
+            && fallback
+        {
+            return Err(why.clone().into());
+        }
         Ok::<_, crate::Error>((r, op.state))
     };
-    let (runner, words, fallback) = plan(edge, firmware.as_deref())?;
     let ((output, log), state) = match run_on(runner, &words) {
         Ok(r) => r,
         Err(e) if fallback => run_on(
@@ -326,6 +336,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         alerts,
         link,
         mqtt: published,
+        faults: output.faults(),
         files,
     };
     report.files.push("operator.txt".into());

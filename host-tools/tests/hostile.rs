@@ -321,3 +321,65 @@ fn the_demo_never_destroys_its_perimeter() {
     demo(&["--perimeter", inside.to_str().unwrap()]).refuses(&["--perimeter", "replaces"]);
     assert_eq!(std::fs::read(&inside).unwrap(), before);
 }
+
+/// Item 9: one corrupt frame (frame 21 of 22) discarded the 21 good ones. Now it is reported
+/// and skipped, the others are processed exactly as in a clean run, and the products of the
+/// good frames are written.
+#[test]
+fn a_corrupt_frame_is_skipped_and_the_others_kept() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenes = tmp.path().join("scenes");
+    let sim = metamoran(&[
+        "simulate",
+        "--preset",
+        "perimeter",
+        "--seed",
+        "3",
+        "--out",
+        scenes.to_str().unwrap(),
+    ]);
+    assert!(sim.status.success(), "{}", sim.stderr);
+    let dir = scenes.join("perimeter-3-0000");
+    let clean = process(&dir);
+    assert!(clean.status.success(), "{}", clean.stderr);
+    let clean: serde_json::Value = serde_json::from_str(&clean.stdout).unwrap();
+    let frames = clean["frames"].as_array().unwrap().len();
+    assert_eq!(frames, 22);
+
+    // Keep the PNG header and the start of the image data of frame 21's mask.
+    let mask = dir.join("camera/000021_mask.png");
+    let bytes = std::fs::read(&mask).unwrap();
+    std::fs::write(&mask, &bytes[..bytes.len() / 2]).unwrap();
+    let out = tmp.path().join("out");
+    let run = metamoran(&[
+        "process",
+        dir.to_str().unwrap(),
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    run.refuses(&["frame 21 skipped", "000021_mask.png"]);
+    let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+    let got = json["frames"].as_array().unwrap();
+    assert_eq!(got.len(), frames);
+    for f in 0..21 {
+        assert_eq!(
+            got[f], clean["frames"][f],
+            "frame {f} differs from the clean run"
+        );
+    }
+    let bad = &got[21];
+    assert!(bad["error"].as_str().unwrap().contains("000021_mask.png"));
+    let objects = bad["objects"].as_array().unwrap();
+    assert_eq!(
+        objects.len(),
+        clean["frames"][21]["objects"].as_array().unwrap().len()
+    );
+    assert!(objects.iter().all(|o| o["detected"] == false));
+    assert!(out.join("results.json").is_file() && out.join("depth_20.png").is_file());
+
+    // An --out that cannot be made fails before any work.
+    let run = metamoran(&["process", dir.to_str().unwrap(), "--out", "/dev/null/out"]);
+    run.refuses(&["--out", "/dev/null/out"]);
+    assert!(run.stdout.is_empty());
+}

@@ -90,7 +90,8 @@ pub fn write_products(
     let period = bundle.scene.radar.frame_period_s;
     let mut files = write_outputs(dir, &camera, out, period, &[])?;
     if out.mode == Mode::Metamoran {
-        for f in &out.frames {
+        // A frame that could not be processed has nothing to plot.
+        for f in out.frames.iter().filter(|f| f.error.is_none()) {
             let views = inspect_frame(&mut bundle, f.frame)?;
             files.extend(crate::inspect::write_plots(dir, f.frame, &views)?);
         }

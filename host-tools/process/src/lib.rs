@@ -132,9 +132,14 @@ impl ObjectEstimate {
 
     /// Nothing trusted for this object.
     pub fn missed(obj: &CameraObject) -> Self {
+        Self::unprocessed(obj.instance, &obj.class)
+    }
+
+    /// Nothing known about instance `instance` of class `class` (its frame was not processed).
+    pub fn unprocessed(instance: u16, class: &str) -> Self {
         Self {
-            instance: obj.instance,
-            class: obj.class.clone(),
+            instance,
+            class: class.to_owned(),
             detected: false,
             depth_m: None,
             azimuth_deg: None,
@@ -154,6 +159,22 @@ pub struct FrameResult {
     pub frame: u32,
     /// One entry per object-of-interest instance, in id order.
     pub objects: Vec<ObjectEstimate>,
+    /// Why the frame could not be processed (a corrupt file, a bad sample count…): its
+    /// objects are then all "not detected". Not part of cli.md's JSON; absent when the frame
+    /// was processed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+impl FrameResult {
+    /// A frame processed into `objects`.
+    pub fn new(frame: u32, objects: Vec<ObjectEstimate>) -> Self {
+        Self {
+            frame,
+            objects,
+            error: None,
+        }
+    }
 }
 
 /// The whole output of `process --json`.
@@ -163,6 +184,39 @@ pub struct ProcessOutput {
     pub mode: Mode,
     /// Per frame.
     pub frames: Vec<FrameResult>,
+    /// Why the run stopped before the last frame (the module under QEMU failed, or the
+    /// consumer of the frames did); the frames before it are kept. Not part of cli.md's JSON.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<String>,
+}
+
+impl ProcessOutput {
+    /// The frames that could not be processed.
+    pub fn skipped(&self) -> impl Iterator<Item = &FrameResult> {
+        self.frames.iter().filter(|f| f.error.is_some())
+    }
+
+    /// What went wrong, for stderr: the skipped frames and why the run stopped; `None` when
+    /// every frame was processed.
+    pub fn faults(&self) -> Option<String> {
+        let mut lines: Vec<String> = self
+            .skipped()
+            .map(|f| {
+                format!(
+                    "frame {} skipped: {}",
+                    f.frame,
+                    f.error.as_deref().unwrap_or("")
+                )
+            })
+            .collect();
+        if let Some(why) = &self.stopped {
+            lines.push(format!(
+                "stopped after {} frame(s): {why}",
+                self.frames.len()
+            ));
+        }
+        (!lines.is_empty()).then(|| lines.join("\n"))
+    }
 }
 
 /// Where the module's share of [`Mode::Metamoran`] runs. Both give the same JSON.
@@ -245,42 +299,87 @@ pub fn process_streamed(
     let mut proc = FrameProcessor::new(&bundle.scene.radar, frame_options)?;
     let mut samples = Vec::new();
     let mut frames = Vec::new();
+    let mut stopped = None;
+    let max_range_m = bundle.scene.radar.max_range_m();
     for f in 0..bundle.frames() {
-        let cam = bundle.camera_frame(f)?;
-        let objects = objects_of_interest(&camera, &cam);
         let started = std::time::Instant::now();
-        let results = match mode {
-            Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
-            Mode::Metamoran => {
-                bundle.read_radar_frame(f, &mut samples)?;
-                metamoran_frame(&bundle, f, &samples, &objects, module.as_mut())?
+        // A bad frame is counted and skipped; only a failed module or consumer stops the run.
+        let estimated = (|| -> Result<Vec<ObjectEstimate>, ProcessError> {
+            let cam = bundle.camera_frame(f)?;
+            let objects = objects_of_interest(&camera, &cam);
+            Ok(match mode {
+                Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
+                Mode::Metamoran => {
+                    bundle.read_radar_frame(f, &mut samples)?;
+                    metamoran_frame(&bundle, f, &samples, &objects, module.as_mut())?
+                }
+                Mode::Naive => {
+                    bundle.read_radar_frame(f, &mut samples)?;
+                    let spectra = proc.process(&samples)?;
+                    let ra = naive::RangeAzimuth::new(&mut proc, spectra.range_bins)?;
+                    objects
+                        .iter()
+                        .map(|o| naive::estimate(&ra, &proc, o))
+                        .collect()
+                }
+            })
+        })();
+        let result = match estimated {
+            Ok(mut objects) => {
+                for o in &mut objects {
+                    o.keep_in_view(max_range_m);
+                }
+                FrameResult::new(f, objects)
             }
-            Mode::Naive => {
-                bundle.read_radar_frame(f, &mut samples)?;
-                let spectra = proc.process(&samples)?;
-                let ra = naive::RangeAzimuth::new(&mut proc, spectra.range_bins)?;
-                objects
-                    .iter()
-                    .map(|o| naive::estimate(&ra, &proc, o))
-                    .collect()
+            Err(e @ ProcessError::Edge(_)) => {
+                stopped = Some(e.to_string());
+                break;
             }
+            Err(e) => FrameResult {
+                frame: f,
+                objects: unprocessed(bundle.instances(f)),
+                error: Some(e.to_string()),
+            },
         };
-        let mut objects: Vec<ObjectEstimate> = results;
-        for o in &mut objects {
-            o.keep_in_view(bundle.scene.radar.max_range_m());
-        }
-        let result = FrameResult { frame: f, objects };
-        on_frame(FrameEvent {
+        let consumed = on_frame(FrameEvent {
             result: &result,
             of: bundle.frames(),
             latency: started.elapsed(),
             link: module.as_ref().map(QemuEdge::link_stats),
-        })
-        .map_err(ProcessError::Consumer)?;
+        });
         frames.push(result);
+        if let Err(e) = consumed {
+            stopped = Some(ProcessError::Consumer(e).to_string());
+            break;
+        }
     }
-    let log = module.map(stop_module).transpose()?;
-    Ok((ProcessOutput { mode, frames }, log))
+    // A module that already failed cannot report; what it computed is kept.
+    let log = match module {
+        Some(q) if stopped.is_none() => Some(stop_module(q)?),
+        _ => None,
+    };
+    Ok((
+        ProcessOutput {
+            mode,
+            frames,
+            stopped,
+        },
+        log,
+    ))
+}
+
+/// "Not detected" for every object of interest of `instances`, in id order: the entries of
+/// a frame that could not be processed.
+fn unprocessed(instances: &[metamoran_bundle::Instance]) -> Vec<ObjectEstimate> {
+    let mut listed: Vec<_> = instances
+        .iter()
+        .filter(|i| i.is_object_of_interest())
+        .collect();
+    listed.sort_by_key(|i| i.id);
+    listed
+        .into_iter()
+        .map(|i| ObjectEstimate::unprocessed(i.id, &i.class))
+        .collect()
 }
 
 /// The module under QEMU, built, started and configured for `bundle`, if `options` run the

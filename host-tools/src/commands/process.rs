@@ -72,7 +72,18 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         open,
         runner,
     };
+    if let Some(dir) = &args.out {
+        // Before any work: a folder that cannot be made fails the run while nothing is lost.
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("--out {}: cannot create the folder ({e})", dir.display()))?;
+    }
     let (out, log) = process_streamed(&args.bundle, &options, |_| Ok(()))?;
+    // The results first: if a product cannot be written, they are already out.
+    if args.json {
+        println!("{}", serde_json::to_string(&out)?);
+    } else {
+        print!("{}", Table(&out));
+    }
     if let Some(path) = &args.edge_log {
         let bytes = log
             .map(|l| l.defmt)
@@ -84,12 +95,13 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
             metamoran_operator::outputs::write_products(dir, &args.bundle, options.open, &out)?;
         eprintln!("wrote {} files to {}", files.len(), dir.display());
     }
-    if args.json {
-        println!("{}", serde_json::to_string(&out)?);
-    } else {
-        print!("{}", Table(&out));
+    match out.faults() {
+        Some(faults) => Err(format!(
+            "{faults}\nthe other frames were processed and written; fix or drop the bad frames"
+        )
+        .into()),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The estimates as lines of text, one object a line.
@@ -98,6 +110,9 @@ struct Table<'a>(&'a ProcessOutput);
 impl fmt::Display for Table<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for frame in &self.0.frames {
+            if let Some(e) = &frame.error {
+                writeln!(f, "frame {} skipped: {e}", frame.frame)?;
+            }
             for o in &frame.objects {
                 let depth = o
                     .depth_m
