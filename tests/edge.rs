@@ -1,18 +1,18 @@
 //! `process --edge qemu`: the firmware under QEMU, fed over the authenticated telemetry link,
 //! must give exactly the JSON of the in-process pipeline, frame after frame.
 
-use metamoran_dsp::wire::{DEV_KEY, Key};
+use metamoran_dsp::wire::DeviceKey;
 use metamoran_e2e::{firmware_dir, oracles_required, qemu_available};
 use metamoran_process::{Mode, ProcessOptions, Runner, process, process_streamed};
 use metamoran_sim::radar::RadarKind;
 use metamoran_sim::{layout::Preset, simulate};
 use std::path::Path;
 
-/// The module under QEMU with link key `key`.
-fn qemu(key: Key) -> Runner {
+/// The module under QEMU with the checkout's device key.
+fn qemu() -> Runner {
     Runner::Qemu {
         firmware: firmware_dir(),
-        key,
+        key_file: metamoran_edge::keys::checkout_key(&firmware_dir()).unwrap(),
     }
 }
 
@@ -99,7 +99,7 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
     let mut detected = 0;
     for b in &bundles {
         let here = json(b, Runner::InProcess).unwrap();
-        let module = json(b, qemu(Key::new(&DEV_KEY))).unwrap();
+        let module = json(b, qemu()).unwrap();
         assert_eq!(module, here, "{}", b.display());
         detected += here.matches("\"detected\":true").count();
     }
@@ -114,8 +114,13 @@ fn qemu_edge_refuses_a_wrong_link_key() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let b = one_bundle(Preset::LongRange, 73, tmp.path());
-    let err = json(&b, qemu(Key::new(&[0x42; 32]))).unwrap_err();
-    assert!(err.contains("--link-key"), "{err}");
+    let elf = metamoran_edge::qemu::build(&firmware_dir(), "edge", None).unwrap();
+    let capture = b.join("radar.bin");
+    let err = metamoran_edge::link::QemuEdge::launch(&capture, DeviceKey::new([0x42; 32]), elf)
+        .err()
+        .expect("a wrong key must not pair")
+        .to_string();
+    assert!(err.contains("--link-key-file"), "{err}");
 }
 
 /// The module's defmt log, decoded by `defmt-print` with the firmware's ELF, tells what it did;
@@ -129,7 +134,7 @@ fn qemu_edge_logs_through_defmt() {
     let tmp = tempfile::tempdir().unwrap();
     let b = one_bundle(Preset::ParkingLot, 74, tmp.path());
     let options = ProcessOptions {
-        runner: qemu(Key::new(&DEV_KEY)),
+        runner: qemu(),
         ..ProcessOptions::mode(Mode::Metamoran)
     };
     let (out, log) = process_streamed(&b, &options, |_| Ok(())).unwrap();
@@ -144,6 +149,7 @@ fn qemu_edge_logs_through_defmt() {
     let objects = out.frames[0].objects.len();
     for line in [
         "INFO  edge module up".to_owned(),
+        "INFO  session open".to_owned(),
         "INFO  configured: ".to_owned(),
         format!("of {objects} objects detected"),
         format!(
@@ -153,4 +159,33 @@ fn qemu_edge_logs_through_defmt() {
     ] {
         assert!(text.contains(&line), "no {line:?} in the log:\n{text}");
     }
+}
+
+/// Issue #18, item 2: a key from `metamoran provision` (a file, never the command line) goes
+/// into the image and pairs the host with it; a key file others can read is refused.
+#[test]
+fn a_provisioned_key_file_pairs_and_a_readable_one_is_refused() {
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let b = one_bundle(Preset::ParkingLot, 75, tmp.path());
+    let key_file = tmp.path().join("gate.key");
+    metamoran_edge::keys::write_key_file(&key_file).unwrap();
+    let runner = Runner::Qemu {
+        firmware: firmware_dir(),
+        key_file: key_file.clone(),
+    };
+    assert_eq!(
+        json(&b, runner.clone()).unwrap(),
+        json(&b, Runner::InProcess).unwrap()
+    );
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&key_file, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let err = json(&b, runner).unwrap_err();
+    assert!(
+        err.contains("gate.key") && err.contains("chmod 600"),
+        "{err}"
+    );
 }

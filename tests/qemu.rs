@@ -15,7 +15,7 @@ fn firmware_self_test_matches_host_bit_for_bit() {
         eprintln!("SKIPPED: qemu-system-arm not installed");
         return;
     }
-    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "firmware").unwrap();
+    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "firmware", None).unwrap();
     let out = qemu::run(&elf, false, Duration::from_secs(60)).unwrap();
     let module: Vec<&str> = out
         .lines()
@@ -48,7 +48,7 @@ fn pipeline_on_the_m7_matches_host_and_truth() {
         eprintln!("SKIPPED: qemu-system-arm not installed");
         return;
     }
-    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "pipeline-icount").unwrap();
+    let elf = qemu::build(&metamoran_e2e::firmware_dir(), "pipeline-icount", None).unwrap();
     let out = qemu::run(&elf, true, Duration::from_secs(120)).unwrap();
     let module: Vec<&str> = out.lines().filter(|l| l.starts_with("PIPELINE ")).collect();
     // The same pipeline on the host.

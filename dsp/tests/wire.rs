@@ -104,14 +104,12 @@ fn full_hint() -> Hint {
 fn messages_round_trip_and_frames_have_no_zero_inside() {
     let (mut tx, mut rx) = link(Stream::Uplink);
     let msgs = vec![
-        Uplink::Hello {
-            firmware: 100,
-            arena_words: 90_000,
-        },
+        Uplink::Ready,
         result(1, 2),
         Uplink::Fault {
             frame: 3,
             fault: metamoran_dsp::wire::Fault::Capture,
+            repeats: 4,
         },
         Uplink::Health(Health {
             frames: 9,
@@ -436,10 +434,7 @@ fn fuzz_both_decoders_a_million_frames() {
         &[
             result(7, 1),
             Uplink::Health(Health::default()),
-            Uplink::Hello {
-                firmware: 1,
-                arena_words: 2,
-            },
+            Uplink::Ready,
         ],
         n,
     );
@@ -461,4 +456,70 @@ fn fuzz_both_decoders_a_million_frames() {
             "{s:?}"
         );
     }
+}
+
+/// Sessions (issue #18, item 1): a session receiver takes no handshake frames, a handshake
+/// receiver no session frames before a session is installed, and installing a new session
+/// rejects every frame of the old one while its counters start over at 1.
+#[test]
+fn sessions_separate_keys_streams_and_counters() {
+    use metamoran_dsp::wire::{DeviceKey, HandshakeDown, HostLink, Opened};
+    let device = DeviceKey::new([3; 32]);
+    let mut host = HostLink::new(device.clone());
+    let mut module = Receiver::with_handshake(device.handshake(), Stream::Downlink);
+    let mut buf = [0u8; MAX_WIRE];
+    let deliver = |rx: &mut Receiver, bytes: &[u8]| {
+        let mut d: Deframer = Deframer::new();
+        let mut frame = None;
+        for &b in bytes {
+            if let Some(Ok(f)) = d.push(b) {
+                frame = Some(rx.open_any::<HandshakeDown, Downlink>(f));
+            }
+        }
+        frame.expect("one frame")
+    };
+    // Before pairing the host cannot frame a session message.
+    assert!(host.encode(&Downlink::Health, &mut buf).is_err());
+    let n = host.sync(&mut buf).unwrap();
+    assert_eq!(
+        deliver(&mut module, &buf[..n]),
+        Ok(Opened::Handshake(HandshakeDown::Sync))
+    );
+    // Session 1.
+    let (m1, h1) = ([1; 16], [2; 16]);
+    let n = host.pair(m1, h1, &mut buf).unwrap();
+    assert!(matches!(
+        deliver(&mut module, &buf[..n]),
+        Ok(Opened::Handshake(HandshakeDown::Session { .. }))
+    ));
+    let n = host.encode(&Downlink::Health, &mut buf).unwrap();
+    let old = buf[..n].to_vec();
+    assert_eq!(
+        deliver(&mut module, &old),
+        Err(LinkError::Tag),
+        "no session yet"
+    );
+    module.install(device.session(&m1, &h1).downlink);
+    assert_eq!(
+        deliver(&mut module, &old),
+        Ok(Opened::Session(Downlink::Health))
+    );
+    assert_eq!(deliver(&mut module, &old), Err(LinkError::Replay(1)));
+    // Session 2: the old frame fails the tag; the new one's counter 1 is fresh.
+    let (m2, h2) = ([4; 16], [5; 16]);
+    let _ = host.pair(m2, h2, &mut buf).unwrap();
+    module.install(device.session(&m2, &h2).downlink);
+    assert_eq!(deliver(&mut module, &old), Err(LinkError::Tag));
+    let n = host.encode(&Downlink::Stop, &mut buf).unwrap();
+    assert_eq!(
+        deliver(&mut module, &buf[..n]),
+        Ok(Opened::Session(Downlink::Stop))
+    );
+    // A plain session receiver rejects handshake frames.
+    let (_, mut plain) = link(Stream::Downlink);
+    let n = host.sync(&mut buf).unwrap();
+    assert_eq!(
+        receive::<Downlink>(&mut plain, &buf[..n]),
+        [Err(LinkError::Tag)]
+    );
 }

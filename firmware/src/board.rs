@@ -122,6 +122,11 @@ impl SemihostingFile {
             .split(|&b| b == b' ')
             .filter(|w| !w.is_empty())
             .nth(index)?;
+        Self::open(path)
+    }
+
+    /// Opens host file `path` for reading; `None` if the host cannot open it.
+    pub fn open(path: &[u8]) -> Option<Self> {
         let mut name = [0u8; 256];
         name.get_mut(..path.len())?.copy_from_slice(path);
         // SYS_OPEN mode 1 = "rb"; the name is NUL-terminated and its length excludes the NUL.
@@ -132,6 +137,52 @@ impl SemihostingFile {
         (handle != usize::MAX).then_some(Self { handle })
     }
 }
+
+/// The emulated board's TRNG: mps2-an500 has none, so QEMU's host supplies the entropy
+/// (`/dev/urandom` through semihosting). A real module implements the same traits over its RNG
+/// peripheral (an STM32H7's RNG, for instance).
+pub struct HostEntropy(SemihostingFile);
+
+/// The host's entropy file could not be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EntropyError;
+
+impl core::fmt::Display for EntropyError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("the entropy source could not be read")
+    }
+}
+
+impl core::error::Error for EntropyError {}
+
+impl HostEntropy {
+    /// Opens `/dev/urandom` on the host; `None` if semihosting cannot.
+    pub fn open() -> Option<Self> {
+        SemihostingFile::open(b"/dev/urandom").map(Self)
+    }
+}
+
+impl rand_core::TryRngCore for HostEntropy {
+    type Error = EntropyError;
+
+    fn try_next_u32(&mut self) -> Result<u32, EntropyError> {
+        let mut b = [0u8; 4];
+        self.try_fill_bytes(&mut b)?;
+        Ok(u32::from_le_bytes(b))
+    }
+
+    fn try_next_u64(&mut self) -> Result<u64, EntropyError> {
+        let mut b = [0u8; 8];
+        self.try_fill_bytes(&mut b)?;
+        Ok(u64::from_le_bytes(b))
+    }
+
+    fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), EntropyError> {
+        crate::capture::CaptureSource::read_exact(&mut self.0, dest).map_err(|_| EntropyError)
+    }
+}
+
+impl rand_core::TryCryptoRng for HostEntropy {}
 
 impl crate::capture::CaptureSource for SemihostingFile {
     fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), crate::capture::SourceError> {

@@ -6,6 +6,7 @@
 //! * [`workload`]: the inputs of those workloads and of the instruction-count benchmarks;
 //! * [`module`]: the module's loop (link → hints, capture → pipeline → results), generic over
 //!   the hardware traits of [`capture`], [`clock`] and `embedded-io`;
+//! * [`provisioned`]: the device key built into the image;
 //! * [`uart`]: the CMSDK UART driver of the QEMU board's link;
 //! * [`log`]: the event log (`defmt` on the target);
 //! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
@@ -20,6 +21,7 @@ pub mod capture;
 pub mod clock;
 pub mod log;
 pub mod module;
+pub mod provisioned;
 pub mod selftest;
 pub mod uart;
 pub mod workload;

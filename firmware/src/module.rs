@@ -7,9 +7,14 @@
 //!                                 Downlink::Frame  ─▶ capture ─▶ pipeline ─▶ Uplink queue ─▶ link
 //! ```
 //!
-//! Everything here is generic over the hardware (capture source, `embedded-io` link, clock), so
-//! the same state machine runs on the module, under QEMU and in host tests with mocks. Nothing
-//! in it panics: every failure becomes a counted [`Health`] entry and an [`Uplink::Fault`].
+//! Everything here is generic over the hardware (capture source, `embedded-io` link, clock,
+//! nonce source), so the same state machine runs on the module, under QEMU and in host tests
+//! with mocks. Nothing in it panics: every failure becomes a counted [`Health`] entry and a
+//! rate-limited [`Uplink::Fault`].
+//!
+//! The link opens a session first (`metamoran_dsp::wire::session`): at boot the module sends
+//! a `Hello` with a fresh nonce from the board's TRNG, and takes session messages only after a
+//! host's `Session` for that nonce, under the keys both nonces derive.
 
 use crate::capture::CaptureSource;
 use crate::clock::Monotonic;
@@ -19,17 +24,49 @@ use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
 use metamoran_dsp::fixed::CQ15;
 use metamoran_dsp::pipeline::{Edge, ObjectHint};
 use metamoran_dsp::wire::message::MAX_OBJECTS;
+use metamoran_dsp::wire::session::fresh_nonce;
 use metamoran_dsp::wire::{
-    Deframer, Downlink, DropOldest, Fault, FrameSummary, Health, Hint, Key, MAX_WIRE, ObjectResult,
-    Receiver, Sender, Stream, Uplink,
+    Deframer, DeviceKey, Downlink, DropOldest, Fault, FrameSummary, HandshakeDown, HandshakeUp,
+    Health, Hint, MAX_WIRE, Nonce, ObjectResult, Opened, Receiver, Sender, Stream, Uplink,
 };
+use rand_core::TryCryptoRng;
 
 /// Longest chirp the module takes (samples).
 pub const MAX_SAMPLES: usize = 1024;
 /// Uplink messages waiting for the link at most; beyond, the oldest is dropped.
 pub const QUEUE: usize = 40;
 /// Firmware version in the `Hello` message (major · 10000 + minor · 100 + patch).
-pub const FIRMWARE_VERSION: u32 = 100;
+pub const FIRMWARE_VERSION: u32 = 200;
+/// Frames the module skips forward at most to reach a requested one (the capture source only
+/// goes forward); a request further ahead is a [`Fault::Sequence`], so one authentic message
+/// cannot keep the loop reading for hours.
+pub const MAX_SKIP: u64 = 64;
+/// Least time between two reports of one fault kind (or two `Hello`s), µs: 2 bytes of garbage
+/// no longer buy ~20 bytes of uplink each; the faults in between are counted into the next
+/// report's `repeats` (and always into [`Health`]).
+pub const REPORT_INTERVAL_US: u32 = 100_000;
+
+/// Rate limit of one kind of report: when it was last sent and what was held back since.
+#[derive(Clone, Copy, Debug, Default)]
+struct Gate {
+    last_us: Option<u32>,
+    held: u32,
+}
+
+impl Gate {
+    /// Whether a report may go out at `now_us`; if not, it is counted as held back.
+    fn pass(&mut self, now_us: u32) -> bool {
+        let open = self
+            .last_us
+            .is_none_or(|t| now_us.wrapping_sub(t) >= REPORT_INTERVAL_US);
+        if open {
+            self.last_us = Some(now_us);
+        } else {
+            self.held = self.held.saturating_add(1);
+        }
+        open
+    }
+}
 
 /// A frame's summary (without its time), its results, and how many objects failed.
 type FrameResults = (FrameSummary, Vec<ObjectResult, MAX_OBJECTS>, u32);
@@ -76,41 +113,58 @@ pub enum Poll {
 }
 
 /// The module: hardware, pipeline state and counters.
-pub struct Module<'m, C, L, K> {
+pub struct Module<'m, C, L, K, R> {
     capture: C,
     link: L,
     clock: K,
+    rng: R,
     arena: &'m mut [u32],
     scratch: &'m mut Scratch,
     edge: Option<Edge>,
     hints: Vec<ObjectHint, MAX_OBJECTS>,
     hints_frame: u32,
-    /// Next frame the capture source will deliver.
-    next_frame: u32,
+    /// Next frame the capture source will deliver (past `u32::MAX` after the last one).
+    next_frame: u64,
     deframer: Deframer,
+    device: DeviceKey,
+    /// Takes handshake frames always, session frames once a session is open.
     receiver: Receiver,
-    sender: Sender,
+    handshake: Sender,
+    /// The session's uplink sender; `None` until the first session opens.
+    sender: Option<Sender>,
+    /// The nonce offered in the last `Hello`, until a `Session` for it arrives.
+    pending: Option<Nonce>,
     queue: DropOldest<Uplink, QUEUE>,
     health: Health,
+    /// One rate limit per [`Fault`] kind (wire order), then one for `Hello`.
+    gates: [Gate; Fault::ALL.len() + 1],
     stack_gauge: Option<fn() -> u32>,
 }
 
-impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m, C, L, K> {
-    /// A module on this hardware with frame arena `arena`, under link key `key`. Queues the
-    /// `Hello` message.
+impl<'m, C, L, K, R> Module<'m, C, L, K, R>
+where
+    C: CaptureSource,
+    L: Read + ReadReady + Write,
+    K: Monotonic,
+    R: TryCryptoRng,
+{
+    /// A module on this hardware with frame arena `arena`, provisioned with `device`, taking
+    /// session nonces from `rng` (the board's TRNG). Sends its first `Hello`.
     pub fn new(
         capture: C,
         link: L,
         clock: K,
+        rng: R,
         arena: &'m mut [u32],
         scratch: &'m mut Scratch,
-        key: Key,
+        device: DeviceKey,
     ) -> Self {
-        let arena_words = arena.len().min(u32::MAX as usize) as u32;
+        let handshake = device.handshake();
         let mut m = Self {
             capture,
             link,
             clock,
+            rng,
             arena,
             scratch,
             edge: None,
@@ -118,17 +172,66 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             hints_frame: 0,
             next_frame: 0,
             deframer: Deframer::new(),
-            receiver: Receiver::new(key.clone(), Stream::Downlink),
-            sender: Sender::new(key, Stream::Uplink),
+            receiver: Receiver::with_handshake(handshake.clone(), Stream::Downlink),
+            handshake: Sender::new(handshake, Stream::UplinkHandshake),
+            device,
+            sender: None,
+            pending: None,
             queue: DropOldest::new(),
             health: Health::default(),
+            gates: [Gate::default(); Fault::ALL.len() + 1],
             stack_gauge: None,
         };
-        m.queue.push(Uplink::Hello {
-            firmware: FIRMWARE_VERSION,
-            arena_words,
-        });
+        m.hello();
         m
+    }
+
+    /// Offers the pending nonce (drawing one if there is none) in a `Hello`, at most once per
+    /// [`REPORT_INTERVAL_US`].
+    fn hello(&mut self) {
+        if self.pending.is_none() {
+            match fresh_nonce(&mut self.rng) {
+                Ok(n) => self.pending = Some(n),
+                Err(_) => return self.fail(0, Fault::Entropy),
+            }
+        }
+        let now = self.clock.micros();
+        let (Some(nonce), Some(gate)) = (self.pending, self.gates.last_mut()) else {
+            return;
+        };
+        if !gate.pass(now) {
+            return;
+        }
+        let hello = HandshakeUp::Hello {
+            firmware: FIRMWARE_VERSION,
+            arena_words: self.arena.len().min(u32::MAX as usize) as u32,
+            nonce,
+        };
+        let mut out = [0u8; MAX_WIRE];
+        if let Ok(n) = self.handshake.encode(&hello, &mut out) {
+            // A refused write is retried by the host's next Sync.
+            let _ = self.link.write_all(out.get(..n).unwrap_or(&[]));
+        }
+    }
+
+    /// Opens the session of the pending nonce and the host's `host`: new keys both ways, the
+    /// replay window and counters start over, what the old session had queued is dropped, and
+    /// `Ready` goes out first. A `Session` for any other nonce (a recording) is a link fault.
+    fn open_session(&mut self, module: Nonce, host: Nonce) {
+        if self.pending != Some(module) {
+            self.health.link.replayed = self.health.link.replayed.saturating_add(1);
+            return self.fault(0, Fault::Link);
+        }
+        self.pending = None;
+        let keys = self.device.session(&module, &host);
+        self.receiver.install(keys.downlink);
+        self.sender = Some(Sender::new(keys.uplink, Stream::Uplink));
+        while self.queue.pop().is_some() {
+            self.health.queue_dropped = self.health.queue_dropped.saturating_add(1);
+        }
+        self.hints.clear();
+        crate::info!("session open");
+        self.queue.push(Uplink::Ready);
     }
 
     /// Reports `gauge()` (deepest stack use, bytes) in every [`Health`].
@@ -139,12 +242,22 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
 
     /// The counters.
     pub fn health(&self) -> Health {
+        let mut link = self.receiver.stats();
+        link.replayed = link.replayed.saturating_add(self.health.link.replayed);
         Health {
-            queue_dropped: self.queue.dropped(),
-            link: self.receiver.stats(),
+            queue_dropped: self
+                .queue
+                .dropped()
+                .saturating_add(self.health.queue_dropped),
+            link,
             stack_bytes: self.stack_gauge.map_or(0, |g| g()),
             ..self.health
         }
+    }
+
+    /// Whether a session is open.
+    pub fn in_session(&self) -> bool {
+        self.sender.is_some()
     }
 
     /// The hardware back (host tests inspect the mock link).
@@ -164,18 +277,22 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
             }
             let message = match self.deframer.push(byte[0]) {
                 None => continue,
-                Some(Ok(frame)) => self.receiver.open::<Downlink>(frame),
+                Some(Ok(frame)) => self.receiver.open_any::<HandshakeDown, Downlink>(frame),
                 Some(Err(e)) => {
                     self.receiver.count(e);
                     Err(e)
                 }
             };
             match message {
-                Ok(m) => {
+                Ok(Opened::Session(m)) => {
                     if self.handle(m) {
                         self.flush();
                         return Poll::Stopped;
                     }
+                }
+                Ok(Opened::Handshake(HandshakeDown::Sync)) => self.hello(),
+                Ok(Opened::Handshake(HandshakeDown::Session { module, host })) => {
+                    self.open_session(module, host);
                 }
                 Err(_) => self.fault(self.hints_frame, Fault::Link),
             }
@@ -274,9 +391,10 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
     /// the results and how many objects failed.
     fn run_frame(&mut self, frame: u32) -> Result<FrameResults, Fault> {
         let edge = self.edge.as_ref().ok_or(Fault::NoConfig)?;
-        if frame < self.next_frame {
-            // The capture source only goes forward.
-            return Err(Fault::Capture);
+        let wanted = u64::from(frame);
+        if wanted < self.next_frame || wanted - self.next_frame > MAX_SKIP {
+            // The capture source only goes forward, and only so far per request.
+            return Err(Fault::Sequence);
         }
         let s = &mut *self.scratch;
         let n = usize::from(edge.samples());
@@ -284,13 +402,14 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
         let bytes = s.bytes.get_mut(..4 * n).ok_or(Fault::Config)?;
         let chirp = s.chirp.get_mut(..n).ok_or(Fault::Config)?;
         // Skip frames the host did not ask for.
-        while self.next_frame < frame {
+        // At most MAX_SKIP frames (checked above).
+        while self.next_frame < wanted {
             for _ in 0..rows {
                 self.capture.read_exact(bytes).map_err(|_| Fault::Capture)?;
             }
             self.next_frame += 1;
         }
-        self.next_frame = frame + 1;
+        self.next_frame = wanted + 1;
         let mut sum = edge.start(self.arena).map_err(|_| Fault::Config)?;
         let rx = edge.rx_count();
         for row in 0..rows {
@@ -339,25 +458,45 @@ impl<'m, C: CaptureSource, L: Read + ReadReady + Write, K: Monotonic> Module<'m,
     /// Counts a failure in its health counter (protocol, capture or pipeline) and reports it.
     fn fail(&mut self, frame: u32, fault: Fault) {
         let h = &mut self.health;
-        match fault {
-            Fault::NoConfig | Fault::Hints | Fault::Link => h.protocol_errors += 1,
-            Fault::Capture => h.capture_errors += 1,
-            Fault::Config | Fault::Pipeline => h.pipeline_errors += 1,
-        }
+        let count = match fault {
+            Fault::NoConfig | Fault::Hints | Fault::Link | Fault::Sequence => {
+                &mut h.protocol_errors
+            }
+            Fault::Capture => &mut h.capture_errors,
+            Fault::Config | Fault::Pipeline | Fault::Entropy => &mut h.pipeline_errors,
+        };
+        *count = count.saturating_add(1);
         self.fault(frame, fault);
     }
 
-    /// Reports a (counted) error: logged now, sent to the host as a `Fault`.
+    /// Reports a (counted) error: sent to the host as a `Fault` and logged, at most once per
+    /// [`REPORT_INTERVAL_US`] per kind; the ones held back go into the next report's `repeats`.
     fn fault(&mut self, frame: u32, fault: Fault) {
+        let now = self.clock.micros();
+        let Some(gate) = self.gates.get_mut(fault as usize) else {
+            return;
+        };
+        if !gate.pass(now) {
+            return;
+        }
+        let repeats = core::mem::take(&mut gate.held);
         crate::warn!("fault at frame {=u32}: {=str}", frame, fault_name(fault));
-        self.queue.push(Uplink::Fault { frame, fault });
+        self.queue.push(Uplink::Fault {
+            frame,
+            fault,
+            repeats,
+        });
     }
 
-    /// Sends every queued message; a link that refuses bytes leaves the rest queued.
+    /// Sends every queued message; a link that refuses bytes, or no session yet, leaves the
+    /// rest queued.
     fn flush(&mut self) {
         let mut out = [0u8; MAX_WIRE];
+        let Some(sender) = self.sender.as_mut() else {
+            return;
+        };
         while let Some(msg) = self.queue.front() {
-            let encoded = self.sender.encode(msg, &mut out);
+            let encoded = sender.encode(msg, &mut out);
             let Ok(len) = encoded else {
                 self.health.protocol_errors += 1;
                 crate::warn!("uplink message could not be encoded; dropped");
@@ -382,6 +521,8 @@ fn fault_name(fault: Fault) -> &'static str {
         Fault::Pipeline => "pipeline error",
         Fault::Link => "link frame rejected (see the link counters)",
         Fault::Hints => "hints do not match the frame",
+        Fault::Sequence => "frame behind the capture or too far ahead of it",
+        Fault::Entropy => "the nonce source failed",
     }
 }
 
@@ -397,7 +538,7 @@ mod tests {
     use crate::bench_scene;
     use crate::capture::SliceCapture;
     use crate::clock::StepClock;
-    use metamoran_dsp::wire::{DEV_KEY, Fault, Health, LinkError};
+    use metamoran_dsp::wire::{DEV_KEY, Fault, Health, HostLink, Key, LinkError};
     use std::collections::VecDeque;
     use std::vec;
     use std::vec::Vec as StdVec;
@@ -460,36 +601,107 @@ mod tests {
         one.repeat(frames)
     }
 
+    /// A deterministic nonce source (SplitMix64 from `seed`): each "boot" of a test module
+    /// gets another seed, as a TRNG would give another nonce.
+    struct TestRng(u64);
+
+    impl rand_core::TryRngCore for TestRng {
+        type Error = core::convert::Infallible;
+        fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
+            self.try_next_u64().map(|v| v as u32)
+        }
+        fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            Ok(z ^ (z >> 31))
+        }
+        fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), Self::Error> {
+            for chunk in dest.chunks_mut(8) {
+                let v = self.try_next_u64()?.to_le_bytes();
+                chunk.copy_from_slice(&v[..chunk.len()]);
+            }
+            Ok(())
+        }
+    }
+
+    impl TryCryptoRng for TestRng {}
+
+    type TestModule<'a> = Module<'a, SliceCapture<'a>, MockLink, StepClock, TestRng>;
+
+    /// The host's end, on the development key; `nonce` seeds its nonces.
     struct Host {
-        tx: Sender,
-        rx: Receiver,
+        link: HostLink,
+        nonce: u8,
     }
 
     impl Host {
         fn new() -> Self {
             Self {
-                tx: Sender::new(Key::new(&DEV_KEY), Stream::Downlink),
-                rx: Receiver::new(Key::new(&DEV_KEY), Stream::Uplink),
+                link: HostLink::new(DeviceKey::new(DEV_KEY)),
+                nonce: 0x40,
             }
         }
         fn frame(&mut self, msg: &Downlink) -> StdVec<u8> {
             let mut out = [0u8; MAX_WIRE];
-            let n = self.tx.encode(msg, &mut out).unwrap();
+            let n = self.link.encode(msg, &mut out).unwrap();
             out[..n].to_vec()
         }
-        fn decode(&mut self, bytes: &[u8]) -> StdVec<Result<Uplink, LinkError>> {
+        fn sync(&mut self) -> StdVec<u8> {
+            let mut out = [0u8; MAX_WIRE];
+            let n = self.link.sync(&mut out).unwrap();
+            out[..n].to_vec()
+        }
+        /// Every frame of `bytes`, handshake or session.
+        fn open_all(
+            &mut self,
+            bytes: &[u8],
+        ) -> StdVec<Result<Opened<HandshakeUp, Uplink>, LinkError>> {
             let mut d: Deframer = Deframer::new();
             let mut out = StdVec::new();
             for &b in bytes {
                 if let Some(Ok(f)) = d.push(b) {
-                    out.push(self.rx.open::<Uplink>(f));
+                    out.push(self.link.open(f));
                 }
             }
             out
         }
+        /// The session messages of `bytes` (handshake frames left out).
+        fn decode(&mut self, bytes: &[u8]) -> StdVec<Result<Uplink, LinkError>> {
+            self.open_all(bytes)
+                .into_iter()
+                .filter_map(|r| match r {
+                    Ok(Opened::Session(m)) => Some(Ok(m)),
+                    Ok(Opened::Handshake(_)) => None,
+                    Err(e) => Some(Err(e)),
+                })
+                .collect()
+        }
+        /// Pairs with `m` from the last `Hello` it sent (taking what it sent), and checks the
+        /// session opens with `Ready`.
+        fn pair(&mut self, m: &mut TestModule<'_>) {
+            let sent = core::mem::take(&mut m.link.tx);
+            let nonce = self
+                .open_all(&sent)
+                .into_iter()
+                .filter_map(|r| match r {
+                    Ok(Opened::Handshake(HandshakeUp::Hello { nonce, .. })) => Some(nonce),
+                    _ => None,
+                })
+                .next_back()
+                .expect("the module sent no Hello");
+            self.nonce += 1;
+            let mut out = [0u8; MAX_WIRE];
+            let n = self.link.pair(nonce, [self.nonce; 16], &mut out).unwrap();
+            send(m, &out[..n]);
+            let sent = core::mem::take(&mut m.link.tx);
+            assert_eq!(self.decode(&sent), [Ok(Uplink::Ready)]);
+            assert!(m.in_session());
+        }
     }
 
-    fn run<C: CaptureSource>(module: &mut Module<'_, C, MockLink, StepClock>) {
+    fn run<C: CaptureSource>(module: &mut Module<'_, C, MockLink, StepClock, TestRng>) {
         for _ in 0..1_000_000 {
             if module.poll() != Poll::Busy {
                 return;
@@ -512,19 +724,27 @@ mod tests {
                 bytes: capture(frames),
             }
         }
-        fn module(&mut self, link: MockLink) -> Module<'_, SliceCapture<'_>, MockLink, StepClock> {
+        /// A module booted with nonce seed `boot`, not paired.
+        fn boot(&mut self, link: MockLink, boot: u64) -> TestModule<'_> {
             Module::new(
                 SliceCapture::new(&self.bytes),
                 link,
                 StepClock::new(10),
+                TestRng(boot),
                 &mut self.arena,
                 &mut self.scratch,
-                Key::new(&DEV_KEY),
+                DeviceKey::new(DEV_KEY),
             )
+        }
+        /// A module paired with `host`.
+        fn module(&mut self, link: MockLink, host: &mut Host) -> TestModule<'_> {
+            let mut m = self.boot(link, 1);
+            host.pair(&mut m);
+            m
         }
     }
 
-    fn send(m: &mut Module<'_, SliceCapture<'_>, MockLink, StepClock>, bytes: &[u8]) {
+    fn send(m: &mut TestModule<'_>, bytes: &[u8]) {
         m.link.rx.extend(bytes.iter().copied());
         run(m);
     }
@@ -533,7 +753,7 @@ mod tests {
     fn a_frame_gives_the_pipelines_results() {
         let mut host = Host::new();
         let mut rig = Rig::new(1);
-        let mut m = rig.module(MockLink::default());
+        let mut m = rig.module(MockLink::default(), &mut host);
         send(
             &mut m,
             &host.frame(&Downlink::Config(bench_scene::config())),
@@ -553,7 +773,6 @@ mod tests {
             .into_iter()
             .map(Result::unwrap)
             .collect();
-        assert!(matches!(up[0], Uplink::Hello { .. }));
         // The same frame through the pipeline directly.
         let config = bench_scene::config();
         let edge = Edge::new(&config).unwrap();
@@ -581,8 +800,8 @@ mod tests {
                 r.to_wire(&h)
             })
             .collect();
-        let Uplink::Results { summary, objects } = &up[1] else {
-            panic!("expected results, got {:?}", up[1]);
+        let Uplink::Results { summary, objects } = &up[0] else {
+            panic!("expected results, got {:?}", up[0]);
         };
         assert_eq!(&objects[..], &expected[..]);
         for (i, r) in objects.iter().enumerate() {
@@ -622,7 +841,7 @@ mod tests {
     fn a_frame_before_any_configuration_is_a_counted_fault() {
         let mut host = Host::new();
         let mut rig = Rig::new(1);
-        let mut m = rig.module(MockLink::default());
+        let mut m = rig.module(MockLink::default(), &mut host);
         let go = Downlink::Frame {
             frame: 0,
             objects: 0,
@@ -639,7 +858,7 @@ mod tests {
     fn frames_are_skipped_forward_and_a_short_capture_is_a_fault() {
         let mut host = Host::new();
         let mut rig = Rig::new(2);
-        let mut m = rig.module(MockLink::default());
+        let mut m = rig.module(MockLink::default(), &mut host);
         send(
             &mut m,
             &host.frame(&Downlink::Config(bench_scene::config())),
@@ -654,16 +873,16 @@ mod tests {
         send(&mut m, &host.frame(&go(2))); // beyond the capture
         send(&mut m, &host.frame(&Downlink::Health));
         let up = host.decode(&m.link.tx);
-        assert_eq!(faults(&up), [Fault::Capture, Fault::Capture]);
+        assert_eq!(faults(&up), [Fault::Sequence, Fault::Capture]);
         let h = health(&up);
-        assert_eq!((h.frames, h.capture_errors), (1, 2));
+        assert_eq!((h.frames, h.capture_errors, h.protocol_errors), (1, 1, 1));
     }
 
     #[test]
     fn garbage_forgeries_and_replays_are_counted_and_the_loop_goes_on() {
         let mut host = Host::new();
         let mut rig = Rig::new(1);
-        let mut m = rig.module(MockLink::default());
+        let mut m = rig.module(MockLink::default(), &mut host);
         let cfg = host.frame(&Downlink::Config(bench_scene::config()));
         send(&mut m, &[0x13, 0x37, 0x00, 0x00]); // garbage frame
         send(&mut m, &vec![0x5A; 2 * MAX_WIRE]); // overlong
@@ -673,14 +892,15 @@ mod tests {
         send(&mut m, &forged);
         send(&mut m, &cfg);
         send(&mut m, &cfg); // replay
-        let mut other = Sender::new(Key::new(&[9; 32]), Stream::Downlink);
+        let mut other = Sender::new(DeviceKey::new([9; 32]).handshake(), Stream::Downlink);
         let mut wrong = [0u8; MAX_WIRE];
         let n = other.encode(&Downlink::Stop, &mut wrong).unwrap();
         send(&mut m, &wrong[..n]); // wrong key: must not stop the module
         send(&mut m, &host.frame(&Downlink::Health));
         let up = host.decode(&m.link.tx);
         let h = health(&up);
-        assert_eq!(h.link.accepted, 2, "{h:?}");
+        // The handshake's Session, the configuration and the health request.
+        assert_eq!(h.link.accepted, 3, "{h:?}");
         assert_eq!(h.link.replayed, 1);
         assert_eq!(h.link.overflow, 1);
         assert!(h.link.bad_tag >= 2 && h.link.malformed >= 1, "{h:?}");
@@ -691,20 +911,176 @@ mod tests {
     fn a_refusing_link_drops_the_oldest_uplink_messages_and_counts_them() {
         let mut host = Host::new();
         let mut rig = Rig::new(1);
-        let mut m = rig.module(MockLink {
-            refuse: true,
-            ..Default::default()
-        });
+        let mut m = rig.module(MockLink::default(), &mut host);
+        m.link.refuse = true;
         for _ in 0..QUEUE + 10 {
             send(&mut m, &host.frame(&Downlink::Health));
         }
         m.link.refuse = false;
         send(&mut m, &host.frame(&Downlink::Stop));
         let up = host.decode(&m.link.tx);
-        // Hello and the first Health answers were dropped; the newest survive, in order.
-        assert!(!up.iter().any(|u| matches!(u, Ok(Uplink::Hello { .. }))));
+        // The first Health answers were dropped; the newest survive, in order.
         let h = health(&up);
-        assert_eq!(h.queue_dropped, 11, "{h:?}");
+        assert_eq!(h.queue_dropped, 10, "{h:?}");
         assert_eq!(up.len(), QUEUE + 1);
+        let _ = Key::new(&DEV_KEY);
+    }
+
+    /// Issue #18, item 1: after a module reboot every recorded frame of the old session is
+    /// rejected both ways (before, counters restarted at 1 under one key and recordings of
+    /// Config, Stop and "no detections" Results were accepted).
+    #[test]
+    fn a_reboot_makes_every_recorded_frame_useless() {
+        let mut rig = Rig::new(2);
+        let mut host = Host::new();
+        let (config, stop, old_uplink) = {
+            let mut m = rig.module(MockLink::default(), &mut host);
+            let config = host.frame(&Downlink::Config(bench_scene::config()));
+            send(&mut m, &config);
+            send(&mut m, &host.frame(&Downlink::Health));
+            let stop = host.frame(&Downlink::Stop);
+            (config, stop, core::mem::take(&mut m.link.tx))
+        };
+        // The module reboots (another nonce) and pairs with a new host run.
+        let mut host = Host::new();
+        let mut m = rig.boot(MockLink::default(), 2);
+        host.pair(&mut m);
+        send(&mut m, &stop);
+        send(&mut m, &config);
+        assert!(m.in_session(), "a recorded Stop must not stop the module");
+        send(
+            &mut m,
+            &host.frame(&Downlink::Frame {
+                frame: 0,
+                objects: 0,
+                clutter: Vec::new(),
+            }),
+        );
+        send(&mut m, &host.frame(&Downlink::Health));
+        let up = host.decode(&m.link.tx);
+        assert_eq!(faults(&up), [Fault::Link, Fault::NoConfig], "{up:?}");
+        let h = health(&up);
+        assert_eq!(h.link.bad_tag, 2, "{h:?}");
+        // The old session's uplink (its Health, counter 2) is rejected by the new host.
+        assert!(
+            host.decode(&old_uplink)
+                .iter()
+                .all(|r| *r == Err(LinkError::Tag)),
+            "old uplink frames must fail the tag"
+        );
+    }
+
+    /// A recorded `Session` pairs nothing: the module takes a `Session` only for the nonce it
+    /// offers now.
+    #[test]
+    fn a_replayed_session_message_cannot_pair_with_a_recording() {
+        let mut rig = Rig::new(1);
+        let recorded = {
+            let mut m = rig.boot(MockLink::default(), 1);
+            let mut host = Host::new();
+            let sent = core::mem::take(&mut m.link.tx);
+            let Some(Ok(Opened::Handshake(HandshakeUp::Hello { nonce, .. }))) =
+                host.open_all(&sent).pop()
+            else {
+                panic!("no Hello");
+            };
+            let mut out = [0u8; MAX_WIRE];
+            let n = host.link.pair(nonce, [7; 16], &mut out).unwrap();
+            out[..n].to_vec()
+        };
+        let mut m = rig.boot(MockLink::default(), 2);
+        send(&mut m, &recorded);
+        assert!(!m.in_session());
+        assert_eq!(m.health().link.replayed, 1);
+        // The genuine host still pairs.
+        Host::new().pair(&mut m);
+    }
+
+    /// Issue #18, item 1: when the host restarts, a `Sync` gets a new `Hello` and a new
+    /// session; the old host's frames are then rejected.
+    #[test]
+    fn a_host_restart_resyncs_the_session() {
+        let mut rig = Rig::new(1);
+        let mut old = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut old);
+        let late = old.frame(&Downlink::Stop);
+        let mut new = Host::new();
+        new.nonce = 0x90;
+        // Past the Hello's rate limit (the boot Hello was just sent).
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        send(&mut m, &new.sync());
+        new.pair(&mut m);
+        send(&mut m, &late);
+        assert!(m.in_session());
+        send(&mut m, &new.frame(&Downlink::Health));
+        let h = health(&new.decode(&m.link.tx));
+        assert_eq!(h.link.bad_tag, 1, "{h:?}");
+        // A replayed Sync re-sends the pending Hello, and the session keeps running.
+        send(&mut m, &new.sync());
+        m.link.tx.clear();
+        send(&mut m, &new.frame(&Downlink::Health));
+        assert!(matches!(
+            new.decode(&m.link.tx)[..],
+            [Ok(Uplink::Health(_))]
+        ));
+    }
+
+    /// Issue #18, item 3: 1,000 two-byte garbage frames used to queue 1,000 faults (~20 bytes
+    /// each); now one report per kind per interval, the rest counted into the next report.
+    #[test]
+    fn faults_are_rate_limited_and_aggregated() {
+        let mut rig = Rig::new(1);
+        let mut host = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut host);
+        let garbage = [0x13u8, 0x00].repeat(1000);
+        send(&mut m, &garbage);
+        let uplink = m.link.tx.len();
+        let up = host.decode(&core::mem::take(&mut m.link.tx));
+        assert_eq!(faults(&up), [Fault::Link]);
+        assert!(
+            uplink < 64,
+            "{uplink} uplink bytes for 2,000 bytes of garbage"
+        );
+        // After the interval the next report carries what was held back.
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        send(&mut m, &[0x13, 0x00]);
+        send(&mut m, &host.frame(&Downlink::Health));
+        let up = host.decode(&m.link.tx);
+        let repeats: StdVec<u32> = up
+            .iter()
+            .filter_map(|u| match u {
+                Ok(Uplink::Fault { repeats, .. }) => Some(*repeats),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(repeats, [999]);
+        assert_eq!(health(&up).link.malformed, 1001);
+    }
+
+    /// Issue #18, item 3: `frame + 1` wrapped at `u32::MAX` and the skip loop had no bound.
+    #[test]
+    fn the_last_frame_number_and_far_requests_are_sequence_faults() {
+        let mut rig = Rig::new(2);
+        let mut host = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut host);
+        send(
+            &mut m,
+            &host.frame(&Downlink::Config(bench_scene::config())),
+        );
+        let go = |frame| Downlink::Frame {
+            frame,
+            objects: 0,
+            clutter: Vec::new(),
+        };
+        send(&mut m, &host.frame(&go(u32::MAX)));
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        send(&mut m, &host.frame(&go(MAX_SKIP as u32 + 1)));
+        // Within the bound the module still skips forward and runs the frame.
+        send(&mut m, &host.frame(&go(1)));
+        send(&mut m, &host.frame(&Downlink::Health));
+        let up = host.decode(&m.link.tx);
+        assert_eq!(faults(&up), [Fault::Sequence, Fault::Sequence]);
+        let h = health(&up);
+        assert_eq!((h.frames, h.capture_errors), (1, 0), "{h:?}");
     }
 }

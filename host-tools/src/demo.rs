@@ -347,10 +347,14 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
 /// Where the module runs for `edge`, in words, and whether a failure there falls back to this
 /// process (`--edge auto` with QEMU).
 fn plan(edge: DemoEdge, firmware: Option<&Path>) -> Result<(Runner, String, bool), crate::Error> {
-    let qemu = firmware.map(|firmware| Runner::Qemu {
-        firmware: firmware.to_owned(),
-        key: metamoran_dsp::wire::Key::new(&metamoran_dsp::wire::DEV_KEY),
-    });
+    let qemu = firmware
+        .map(|firmware| {
+            Ok::<_, metamoran_edge::EdgeError>(Runner::Qemu {
+                firmware: firmware.to_owned(),
+                key_file: metamoran_edge::keys::checkout_key(firmware)?,
+            })
+        })
+        .transpose()?;
     let qemu_words = "firmware under QEMU (mps2-an500, Cortex-M7)".to_owned();
     let here = |why: &str| (Runner::InProcess, format!("in this process{why}"), false);
     Ok(match (edge, qemu) {

@@ -5,8 +5,8 @@ mod commands;
 
 use clap::{Parser, Subcommand};
 use commands::{
-    args::Locations, bench, demo, demo_capture, eval, inspect, map, odometry, process, simulate,
-    summarize,
+    args::Locations, bench, demo, demo_capture, eval, inspect, map, odometry, process, provision,
+    simulate, summarize,
 };
 use std::process::ExitCode;
 
@@ -33,6 +33,7 @@ enum Command {
     #[command(name = "demo-capture")]
     DemoCapture(demo_capture::Args),
     Bench(bench::Args),
+    Provision(provision::Args),
 }
 
 fn run(cli: &Cli) -> commands::Result {
@@ -48,6 +49,7 @@ fn run(cli: &Cli) -> commands::Result {
         Command::Demo(a) => demo::run(a, at),
         Command::DemoCapture(a) => demo_capture::run(a, at),
         Command::Bench(a) => bench::run(a, at),
+        Command::Provision(a) => provision::run(a, at),
     }
 }
 

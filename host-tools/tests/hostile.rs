@@ -383,3 +383,44 @@ fn a_corrupt_frame_is_skipped_and_the_others_kept() {
     run.refuses(&["--out", "/dev/null/out"]);
     assert!(run.stdout.is_empty());
 }
+
+/// Item 2: `metamoran provision` writes a private key file, never prints the key, and never
+/// overwrites a key.
+#[test]
+fn provisioned_keys_are_private_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("keys");
+    let run = metamoran(&[
+        "provision",
+        "--device",
+        "gate-east",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", run.stderr);
+    let file = out.join("gate-east.key");
+    let key = std::fs::read_to_string(&file).unwrap();
+    let key = key.trim();
+    assert_eq!(key.len(), 64);
+    assert!(!run.stdout.contains(key) && !run.stderr.contains(key));
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&file).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o600);
+    metamoran(&[
+        "provision",
+        "--device",
+        "gate-east",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .refuses(&["gate-east.key", "never overwritten"]);
+    assert_eq!(std::fs::read_to_string(&file).unwrap().trim(), key);
+    metamoran(&[
+        "provision",
+        "--device",
+        "../x",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+    .refuses(&["--device"]);
+}

@@ -15,11 +15,14 @@ pub const TAG_LEN: usize = 8;
 /// Bytes of a pre-shared key.
 pub const KEY_LEN: usize = 32;
 
-/// The development key of QEMU runs and tests (`"metamoran development link key!!"`). Deployed
-/// modules are built with their own key (`METAMORAN_LINK_KEY`, 64 hex digits).
+/// The public development device key, for tests and firmware built with the explicit
+/// `insecure-dev-key` feature only (`"metamoran development link key!!"`). Deployed modules get
+/// their own key from `metamoran provision`; no release build falls back to this one.
+#[cfg(feature = "dev-key")]
 pub const DEV_KEY: [u8; KEY_LEN] = *b"metamoran development link key!!";
 
-/// A pre-shared link key, with its HMAC states precomputed. `Debug` never prints the key.
+/// A frame-tagging key (a session's or the handshake's, derived from the device key by
+/// [`super::session::DeviceKey`]), with its HMAC states precomputed. `Debug` never prints it.
 #[derive(Clone)]
 pub struct Key {
     mac: Hmac<Sha256>,
@@ -63,28 +66,6 @@ impl Key {
         Self { mac }
     }
 
-    /// The key written as [`KEY_LEN`] × 2 hexadecimal digits.
-    ///
-    /// # Errors
-    /// [`KeyError::Hex`] for any other text.
-    pub fn from_hex(text: &str) -> Result<Self, KeyError> {
-        let text = text.trim().as_bytes();
-        if text.len() != 2 * KEY_LEN {
-            return Err(KeyError::Hex);
-        }
-        let digit = |c: u8| match c {
-            b'0'..=b'9' => Ok(c - b'0'),
-            b'a'..=b'f' => Ok(c - b'a' + 10),
-            b'A'..=b'F' => Ok(c - b'A' + 10),
-            _ => Err(KeyError::Hex),
-        };
-        let mut bytes = [0u8; KEY_LEN];
-        for (b, pair) in bytes.iter_mut().zip(text.chunks_exact(2)) {
-            *b = digit(pair[0])? << 4 | digit(pair[1])?;
-        }
-        Ok(Self::new(&bytes))
-    }
-
     /// The tag of `data`. O(len).
     pub fn tag(&self, data: &[u8]) -> [u8; TAG_LEN] {
         let mut mac = self.mac.clone();
@@ -116,16 +97,5 @@ mod tests {
         assert_eq!(tag, [0x5b, 0xdc, 0xc1, 0x46, 0xbf, 0x60, 0x75, 0x4e]);
         assert!(key.verify(b"what do ya want for nothing?", &tag));
         assert!(!key.verify(b"what do ya want for nothing!", &tag));
-    }
-
-    #[test]
-    fn hex_keys() {
-        let hex = "00112233445566778899aabbccddeeff00112233445566778899AABBCCDDEEFF";
-        assert!(Key::from_hex(hex).is_ok());
-        assert_eq!(Key::from_hex(&hex[1..]).unwrap_err(), KeyError::Hex);
-        assert_eq!(
-            Key::from_hex(&hex.replace('0', "g")).unwrap_err(),
-            KeyError::Hex
-        );
     }
 }

@@ -7,9 +7,10 @@
 //! tag  = HMAC-SHA-256(key, version ‖ stream ‖ counter ‖ payload)[..TAG_LEN]
 //! ```
 //!
-//! The counter is the sender's, starting at 1 and increasing by one per frame; the receiver
-//! uses it against replays and to detect loss and reordering. The stream byte keeps an uplink
-//! frame from being reflected back as a downlink one.
+//! The counter is the sender's, starting at 1 in each session and increasing by one per frame;
+//! the receiver uses it against replays and to detect loss and reordering (handshake frames are
+//! fresh by their nonces instead). The stream byte keeps an uplink frame from being reflected
+//! back as a downlink one, and a handshake frame from passing as a session one.
 
 use super::VERSION;
 use super::auth::{Key, TAG_LEN};
@@ -25,14 +26,29 @@ pub const MAX_RAW: usize = HEADER_LEN + MAX_PAYLOAD + TAG_LEN;
 /// Largest frame on the wire, COBS overhead and delimiter included.
 pub const MAX_WIRE: usize = cobs::max_encoding_length(MAX_RAW) + 1;
 
-/// Direction of a frame.
+/// Direction and kind of a frame: session frames of each direction, and the handshake frames
+/// that open sessions ([`super::session`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Stream {
-    /// Module to host.
+    /// Module to host, in a session.
     Uplink = 0x55,
-    /// Host to module.
+    /// Host to module, in a session.
     Downlink = 0xD1,
+    /// Module to host, handshake.
+    UplinkHandshake = 0x5A,
+    /// Host to module, handshake.
+    DownlinkHandshake = 0xDA,
+}
+
+impl Stream {
+    /// The handshake stream of the same direction.
+    pub fn handshake(self) -> Self {
+        match self {
+            Self::Uplink | Self::UplinkHandshake => Self::UplinkHandshake,
+            Self::Downlink | Self::DownlinkHandshake => Self::DownlinkHandshake,
+        }
+    }
 }
 
 /// Why a message could not be framed.
@@ -44,8 +60,10 @@ pub enum EncodeError {
     TooLarge,
     /// The output buffer is smaller than [`MAX_WIRE`].
     Buffer,
-    /// The counter reached `u32::MAX`: re-key the link.
+    /// The counter reached `u32::MAX`: open a new session.
     CounterExhausted,
+    /// No session is open yet: pair first.
+    NoSession,
 }
 
 impl core::error::Error for EncodeError {}
@@ -61,9 +79,10 @@ impl fmt::Display for EncodeError {
             Self::CounterExhausted => {
                 write!(
                     f,
-                    "the link counter is exhausted: restart the link with a new key"
+                    "the link counter is exhausted: open a new session (handshake)"
                 )
             }
+            Self::NoSession => write!(f, "no session is open: pair with the module first"),
         }
     }
 }
@@ -84,6 +103,12 @@ impl Sender {
             stream,
             counter: 0,
         }
+    }
+
+    /// Starts a new session: frames are tagged with `key` and counted from 1 again.
+    pub fn install(&mut self, key: Key) {
+        self.key = key;
+        self.counter = 0;
     }
 
     /// Counter of the last frame sent (0: none yet).

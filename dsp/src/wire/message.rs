@@ -220,6 +220,24 @@ pub enum Fault {
     Link,
     /// More hints than [`MAX_OBJECTS`], or hints of another frame.
     Hints,
+    /// A frame behind the capture source, or further ahead of it than the module skips.
+    Sequence,
+    /// The nonce source failed: no session can be opened until it works.
+    Entropy,
+}
+
+impl Fault {
+    /// Every fault, in wire order.
+    pub const ALL: [Fault; 8] = [
+        Fault::NoConfig,
+        Fault::Config,
+        Fault::Capture,
+        Fault::Pipeline,
+        Fault::Link,
+        Fault::Hints,
+        Fault::Sequence,
+        Fault::Entropy,
+    ];
 }
 
 /// Uplink messages.
@@ -228,13 +246,9 @@ pub enum Fault {
 // fixed capacity (each Results at most 16 × 28 bytes).
 #[allow(clippy::large_enum_variant)]
 pub enum Uplink {
-    /// The module is up: protocol version and its limits.
-    Hello {
-        /// Firmware version (major · 10000 + minor · 100 + patch).
-        firmware: u32,
-        /// Arena words available for a frame.
-        arena_words: u32,
-    },
+    /// The session is open: the module's first message under the new session keys (its
+    /// version and limits came in the handshake's `Hello`).
+    Ready,
     /// A frame is done: its bookkeeping and the answer for each object, in hint order.
     Results {
         /// Frame number, counts, timing.
@@ -244,11 +258,14 @@ pub enum Uplink {
     },
     /// Health counters.
     Health(Health),
-    /// Something failed (counted in [`Health`] too).
+    /// Something failed (counted in [`Health`] too). Faults of one kind are reported at most
+    /// once per rate-limit interval; the others are counted into the next report.
     Fault {
         /// Frame concerned.
         frame: u32,
         /// What.
         fault: Fault,
+        /// Faults of this kind since the previous report that were not reported each.
+        repeats: u32,
     },
 }

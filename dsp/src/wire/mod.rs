@@ -8,21 +8,29 @@
 //! ```
 //!
 //! Each message travels in one frame: postcard payload, version, direction, counter and a
-//! truncated HMAC-SHA-256 tag, COBS-encoded and delimited by a zero byte.
+//! truncated HMAC-SHA-256 tag, COBS-encoded and delimited by a zero byte. Frames are tagged with
+//! per-session keys a handshake derives from the device key and two fresh nonces
+//! ([`session`]).
 
 pub mod auth;
 pub mod frame;
+pub mod host;
 pub mod message;
 pub mod queue;
 pub mod receiver;
+pub mod session;
 
-pub use auth::{DEV_KEY, KEY_LEN, Key, KeyError, TAG_LEN};
+#[cfg(feature = "dev-key")]
+pub use auth::DEV_KEY;
+pub use auth::{KEY_LEN, Key, KeyError, TAG_LEN};
 pub use frame::{EncodeError, MAX_WIRE, Sender, Stream};
+pub use host::HostLink;
 pub use message::{
     Alternative, Downlink, Fault, FrameSummary, Health, Hint, LinkStats, ObjectResult, Uplink,
 };
 pub use queue::DropOldest;
-pub use receiver::{Deframer, LinkError, Receiver};
+pub use receiver::{Deframer, LinkError, Opened, Receiver};
+pub use session::{DeviceKey, HandshakeDown, HandshakeUp, NONCE_LEN, Nonce, SessionKeys};
 
 /// Protocol version: the first byte of every frame.
-pub const VERSION: u8 = 2;
+pub const VERSION: u8 = 3;

@@ -125,10 +125,22 @@ impl<const N: usize> Deframer<N> {
     }
 }
 
+/// A frame [`Receiver::open_any`] accepted: a handshake message or a session message.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Opened<H, M> {
+    /// On the handshake stream, under the handshake key.
+    Handshake(H),
+    /// On the session stream, under the session key and inside the replay window.
+    Session(M),
+}
+
 /// Checks and decodes frames of one direction; keeps the replay window and the counters.
 #[derive(Debug)]
 pub struct Receiver {
-    key: Key,
+    /// Tags the session frames; `None` before the first session.
+    key: Option<Key>,
+    /// Tags the handshake frames, if this receiver takes them.
+    handshake: Option<Key>,
     stream: Stream,
     highest: u32,
     /// Bit i: counter `highest − i` was accepted.
@@ -137,15 +149,43 @@ pub struct Receiver {
 }
 
 impl Receiver {
-    /// A receiver of `stream` frames under `key`, expecting the sender's counter to start at 1.
+    /// A receiver of `stream` frames under session key `key`, expecting the sender's counter to
+    /// start at 1; it takes no handshake frames.
     pub fn new(key: Key, stream: Stream) -> Self {
         Self {
-            key,
+            key: Some(key),
+            handshake: None,
             stream,
             highest: 0,
             seen: 1, // counter 0 is never sent: treat it as seen
             stats: LinkStats::default(),
         }
+    }
+
+    /// A receiver of `stream` that takes handshake frames under `handshake` and no session
+    /// frames until [`Receiver::install`].
+    pub fn with_handshake(handshake: Key, stream: Stream) -> Self {
+        Self {
+            key: None,
+            handshake: Some(handshake),
+            stream,
+            highest: 0,
+            seen: 1,
+            stats: LinkStats::default(),
+        }
+    }
+
+    /// Starts a new session under `key`: the replay window starts over (the sender's counter
+    /// restarts at 1); frames of the previous session now fail the tag.
+    pub fn install(&mut self, key: Key) {
+        self.key = Some(key);
+        self.highest = 0;
+        self.seen = 1;
+    }
+
+    /// Whether a session key is installed.
+    pub fn in_session(&self) -> bool {
+        self.key.is_some()
     }
 
     /// The counters so far.
@@ -166,12 +206,28 @@ impl Receiver {
         *c = c.saturating_add(1);
     }
 
-    /// Checks the COBS-encoded `frame` (decoded in place) and returns its message. Every
-    /// rejection is counted. O(len).
+    /// Checks the COBS-encoded session `frame` (decoded in place) and returns its message.
+    /// Every rejection is counted; a handshake frame is rejected as [`LinkError::Tag`]. O(len).
     ///
     /// # Errors
     /// [`LinkError`] naming the first check that failed.
     pub fn open<'b, M: Deserialize<'b>>(&mut self, frame: &'b mut [u8]) -> Result<M, LinkError> {
+        match self.open_any::<Never, M>(frame)? {
+            Opened::Session(m) => Ok(m),
+            Opened::Handshake(never) => match never {},
+        }
+    }
+
+    /// Checks the COBS-encoded `frame` (decoded in place): a handshake message `H` on the
+    /// handshake stream, or a session message `M`. Every rejection is counted. O(len).
+    ///
+    /// # Errors
+    /// [`LinkError`] naming the first check that failed; a session frame before any session
+    /// fails the tag.
+    pub fn open_any<'b, H: Deserialize<'b>, M: Deserialize<'b>>(
+        &mut self,
+        frame: &'b mut [u8],
+    ) -> Result<Opened<H, M>, LinkError> {
         let r = self.check(frame);
         if let Err(e) = r {
             self.count(e);
@@ -179,7 +235,10 @@ impl Receiver {
         r
     }
 
-    fn check<'b, M: Deserialize<'b>>(&mut self, frame: &'b mut [u8]) -> Result<M, LinkError> {
+    fn check<'b, H: Deserialize<'b>, M: Deserialize<'b>>(
+        &mut self,
+        frame: &'b mut [u8],
+    ) -> Result<Opened<H, M>, LinkError> {
         if frame.len() > MAX_WIRE {
             return Err(LinkError::Overflow);
         }
@@ -193,18 +252,27 @@ impl Receiver {
         if header[0] != VERSION {
             return Err(LinkError::Version(header[0]));
         }
-        if header[1] != self.stream as u8 || !self.key.verify(body, tag) {
+        let handshake = header[1] == self.stream.handshake() as u8;
+        let key = if handshake {
+            self.handshake.as_ref()
+        } else if header[1] == self.stream as u8 {
+            self.key.as_ref()
+        } else {
+            None
+        };
+        if !key.is_some_and(|k| k.verify(body, tag)) {
             return Err(LinkError::Tag);
         }
-        let counter = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
-        self.admit(counter)?;
-        match postcard::take_from_bytes::<M>(payload) {
-            Ok((msg, [])) => {
-                self.stats.accepted = self.stats.accepted.saturating_add(1);
-                Ok(msg)
-            }
-            _ => Err(LinkError::Payload),
-        }
+        let opened = if handshake {
+            // Fresh by its nonces (see `session`): no counter check.
+            decode(payload).map(Opened::Handshake)
+        } else {
+            let counter = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
+            self.admit(counter)?;
+            decode(payload).map(Opened::Session)
+        }?;
+        self.stats.accepted = self.stats.accepted.saturating_add(1);
+        Ok(opened)
     }
 
     /// The replay window (see the module docs).
@@ -231,6 +299,24 @@ impl Receiver {
         Ok(())
     }
 }
+/// A whole postcard message of `payload`.
+fn decode<'b, T: Deserialize<'b>>(payload: &'b [u8]) -> Result<T, LinkError> {
+    match postcard::take_from_bytes::<T>(payload) {
+        Ok((msg, [])) => Ok(msg),
+        _ => Err(LinkError::Payload),
+    }
+}
+
+/// No handshake message: what [`Receiver::open`] takes on the handshake stream.
+#[derive(Debug)]
+enum Never {}
+
+impl<'de> Deserialize<'de> for Never {
+    fn deserialize<D: serde::Deserializer<'de>>(_: D) -> Result<Self, D::Error> {
+        Err(serde::de::Error::custom("no handshake message expected"))
+    }
+}
+
 /// Decodes a COBS frame (delimiter removed) in place; returns the decoded length, or `None` for
 /// a zero byte inside the frame or a code that runs past its end (the `cobs` crate's verdicts on
 /// every frame the deframer can deliver). The decoded bytes never

@@ -14,12 +14,19 @@
 #[cfg(target_os = "none")]
 mod app {
     use cortex_m_rt::entry;
-    use firmware::board::{SemihostingFile, StackGauge, Timer0};
+    use firmware::board::{HostEntropy, SemihostingFile, StackGauge, Timer0};
     use firmware::module::{Module, Poll, Scratch};
     use firmware::uart::{CmsdkUart, UART0};
-    use metamoran_dsp::wire::{DEV_KEY, Key};
 
     firmware::hard_fault_exits!();
+
+    // No image carries the public development key by accident.
+    #[cfg(not(feature = "insecure-dev-key"))]
+    const _: () = assert!(
+        firmware::provisioned::LINK_KEY.is_some(),
+        "no device key: build with METAMORAN_LINK_KEY_FILE=<a key file from `metamoran provision`>, \
+         or with the explicit `insecure-dev-key` feature for development only"
+    );
 
     /// Frame arena: the cascade-86 × 512-sample budget (352 KiB).
     const ARENA_WORDS: usize = firmware::bench_scene::ARENA_WORDS;
@@ -29,17 +36,13 @@ mod app {
     #[entry]
     fn main() -> ! {
         let _ = StackGauge::paint();
-        let key = match option_env!("METAMORAN_LINK_KEY") {
-            Some(hex) => match Key::from_hex(hex) {
-                Ok(k) => k,
-                Err(_) => {
-                    defmt::error!(
-                        "METAMORAN_LINK_KEY is not 64 hex digits: rebuild with a valid key"
-                    );
-                    firmware::board::exit(false)
-                }
-            },
-            None => Key::new(&DEV_KEY),
+        let Some(key) = firmware::provisioned::device_key() else {
+            defmt::error!("no device key in this image: provision it");
+            firmware::board::exit(false)
+        };
+        let Some(entropy) = HostEntropy::open() else {
+            defmt::error!("no entropy source: QEMU must allow semihosting to open /dev/urandom");
+            firmware::board::exit(false)
         };
         let Some(capture) = SemihostingFile::from_cmdline(1) else {
             defmt::error!("no capture: pass the capture file as the second semihosting argument");
@@ -54,7 +57,7 @@ mod app {
         };
         // SAFETY: UART0 is this board's CMSDK UART and nothing else drives it.
         let uart = unsafe { CmsdkUart::new(UART0, 25_000_000, 115_200) };
-        let mut module = Module::new(capture, uart, Timer0::start(), arena, scratch, key)
+        let mut module = Module::new(capture, uart, Timer0::start(), entropy, arena, scratch, key)
             .with_stack_gauge(StackGauge::stack_high_water);
         defmt::info!("edge module up: waiting for the host on UART0");
         loop {

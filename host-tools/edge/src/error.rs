@@ -69,14 +69,28 @@ pub enum EdgeError {
     /// A message did not fit a link frame.
     #[error("link to the module: {0}")]
     Encode(EncodeError),
-    /// The module's first frame failed authentication.
+    /// The module's handshake failed authentication.
     #[error(
-        "the module's first frame failed authentication ({0}): give --link-key the key the firmware was built with"
+        "the module's handshake failed authentication ({0}): give --link-key-file (or METAMORAN_LINK_KEY_FILE) the key file the firmware was built with"
     )]
     Key(LinkError),
-    /// The module's first message was not `Hello`.
-    #[error("the module did not say hello first: {0}")]
+    /// The module did not pair.
+    #[error("the module did not open a session: {0}")]
     NoHello(String),
+    /// The module sent `Hello` in the middle of a session: it rebooted.
+    #[error("the module rebooted during the run (it sent Hello again); its configuration is gone")]
+    Rebooted,
+    /// A key file could not be read or written.
+    #[error("{}: {problem}", path.display())]
+    KeyFile {
+        /// The key file.
+        path: PathBuf,
+        /// What is wrong, and what to do.
+        problem: String,
+    },
+    /// The OS has no random generator.
+    #[error("cannot draw a nonce from the OS: {0}")]
+    Entropy(String),
     /// The module refused the radar configuration.
     #[error(
         "the module rejected the radar configuration ({0:?}): it takes at most 1024 samples per chirp and frames whose sums fit its 352 KiB arena"

@@ -6,6 +6,7 @@
 //! it calls none of them.
 
 mod error;
+pub mod keys;
 pub mod link;
 pub mod qemu;
 

@@ -4,11 +4,11 @@
 //! per frame the hints and a `Frame` message, then the per-object results until the frame's
 //! summary.
 
-use crate::{EdgeError, qemu};
+use crate::{EdgeError, keys, qemu};
 use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::wire::{
-    Deframer, Downlink, Fault, Health, Hint, Key, LinkError, MAX_WIRE, ObjectResult, Receiver,
-    Sender, Stream, Uplink,
+    Deframer, DeviceKey, Downlink, Fault, HandshakeUp, Health, Hint, HostLink, LinkError, MAX_WIRE,
+    ObjectResult, Opened, Uplink,
 };
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -18,13 +18,14 @@ use std::time::{Duration, Instant};
 
 /// How long the module may take to answer one message.
 const ANSWER_TIMEOUT: Duration = Duration::from_secs(60);
+/// How long to wait for a `Hello` before asking again with `Sync`.
+const HELLO_RETRY: Duration = Duration::from_secs(1);
 
 /// A running module under QEMU.
 pub struct QemuEdge {
     child: Child,
     stream: TcpStream,
-    sender: Sender,
-    receiver: Receiver,
+    link_state: HostLink,
     deframer: Deframer,
     link: PathBuf,
     /// The firmware ELF (its defmt strings decode the log).
@@ -84,17 +85,28 @@ fn cargo_bin(name: &str) -> PathBuf {
 }
 
 impl QemuEdge {
-    /// Builds the firmware in workspace `firmware` and starts it on `capture` (a bundle's
-    /// `radar.bin`, read by the module as the radar board's stream), under link key `key`.
+    /// Builds the firmware in workspace `firmware` with the device key in `key_file`, starts
+    /// it on `capture` (a bundle's `radar.bin`, read by the module as the radar board's
+    /// stream) and opens a session with it.
     ///
     /// # Errors
-    /// [`EdgeError`] if the build, QEMU or the first message fails.
-    pub fn start(capture: &Path, key: Key, firmware: &Path) -> Result<Self, EdgeError> {
+    /// [`EdgeError`] if the key, the build, QEMU or the handshake fails.
+    pub fn start(capture: &Path, key_file: &Path, firmware: &Path) -> Result<Self, EdgeError> {
+        let device = keys::read_key_file(key_file)?;
+        let elf = qemu::build(firmware, "edge", Some(key_file))?;
+        Self::launch(capture, device, elf)
+    }
+
+    /// Starts the built `edge` image `elf` on `capture` and opens a session with it under
+    /// `device` (which must be the key the image was built with).
+    ///
+    /// # Errors
+    /// [`EdgeError`] if QEMU or the handshake fails.
+    pub fn launch(capture: &Path, device: DeviceKey, elf: PathBuf) -> Result<Self, EdgeError> {
         let capture = capture.canonicalize().map_err(|source| EdgeError::File {
             path: capture.to_owned(),
             source,
         })?;
-        let elf = qemu::build(firmware, "edge")?;
         // QEMU's option syntax and the semihosting command line split on commas and spaces:
         // hand the module a plain path.
         let port = TcpListener::bind("127.0.0.1:0")
@@ -125,20 +137,49 @@ impl QemuEdge {
             .stderr(Stdio::piped())
             .spawn()
             .map_err(EdgeError::QemuMissing)?;
-        let key2 = key.clone();
         let mut edge = Self {
             child,
             stream: connect(port)?,
-            sender: Sender::new(key, Stream::Downlink),
-            receiver: Receiver::new(key2, Stream::Uplink),
+            link_state: HostLink::new(device),
             deframer: Deframer::new(),
             link,
             elf: elf.clone(),
             faults: Vec::new(),
         };
-        match edge.receive()? {
-            Uplink::Hello { .. } => Ok(edge),
-            other => Err(EdgeError::NoHello(format!("{other:?}"))),
+        edge.pair()?;
+        Ok(edge)
+    }
+
+    /// The handshake: waits for the module's `Hello` (asking again with `Sync` every
+    /// [`HELLO_RETRY`]), answers with a fresh nonce and waits for `Ready` under the new keys.
+    fn pair(&mut self) -> Result<(), EdgeError> {
+        let deadline = Instant::now() + ANSWER_TIMEOUT;
+        let nonce = loop {
+            let retry = (Instant::now() + HELLO_RETRY).min(deadline);
+            match self.next_frame(retry)? {
+                Some(Opened::Handshake(HandshakeUp::Hello { nonce, .. })) => break nonce,
+                Some(_) => {}
+                None if Instant::now() >= deadline => {
+                    return Err(EdgeError::NoHello(format!(
+                        "no Hello within {ANSWER_TIMEOUT:?}"
+                    )));
+                }
+                None => {
+                    let mut buf = [0u8; MAX_WIRE];
+                    let n = self.link_state.sync(&mut buf).map_err(EdgeError::Encode)?;
+                    self.stream.write_all(&buf[..n]).map_err(EdgeError::Link)?;
+                }
+            }
+        };
+        let mut buf = [0u8; MAX_WIRE];
+        let n = self
+            .link_state
+            .pair(nonce, keys::host_nonce()?, &mut buf)
+            .map_err(EdgeError::Encode)?;
+        self.stream.write_all(&buf[..n]).map_err(EdgeError::Link)?;
+        match self.receive()? {
+            Uplink::Ready => Ok(()),
+            other => Err(EdgeError::NoHello(format!("expected Ready, got {other:?}"))),
         }
     }
 
@@ -188,7 +229,9 @@ impl QemuEdge {
                         .map(|h| objects.iter().find(|r| r.instance == h.instance).copied())
                         .collect());
                 }
-                Uplink::Fault { frame: f, fault } => {
+                Uplink::Fault {
+                    frame: f, fault, ..
+                } => {
                     self.faults.push((f, fault));
                     if matches!(fault, Fault::Capture | Fault::NoConfig | Fault::Config)
                         && f == frame
@@ -242,19 +285,32 @@ impl QemuEdge {
     fn send(&mut self, msg: &Downlink) -> Result<(), EdgeError> {
         let mut buf = [0u8; MAX_WIRE];
         let n = self
-            .sender
+            .link_state
             .encode(msg, &mut buf)
             .map_err(EdgeError::Encode)?;
         self.stream.write_all(&buf[..n]).map_err(EdgeError::Link)
     }
 
-    /// The next authentic uplink message; rejected frames are counted and skipped.
+    /// The next authentic session message; rejected frames are counted and skipped, and a
+    /// `Hello` (the module rebooted) ends the run.
     fn receive(&mut self) -> Result<Uplink, EdgeError> {
-        let deadline = Instant::now() + ANSWER_TIMEOUT;
+        match self.next_frame(Instant::now() + ANSWER_TIMEOUT)? {
+            Some(Opened::Session(m)) => Ok(m),
+            Some(Opened::Handshake(_)) => Err(EdgeError::Rebooted),
+            None => Err(EdgeError::Silent(ANSWER_TIMEOUT)),
+        }
+    }
+
+    /// The next authentic frame before `deadline` (`None` at the deadline); rejected frames
+    /// are counted and skipped.
+    fn next_frame(
+        &mut self,
+        deadline: Instant,
+    ) -> Result<Option<Opened<HandshakeUp, Uplink>>, EdgeError> {
         let mut byte = [0u8; 1];
         loop {
             if Instant::now() > deadline {
-                return Err(EdgeError::Silent(ANSWER_TIMEOUT));
+                return Ok(None);
             }
             match self.stream.read(&mut byte) {
                 Ok(0) => return Err(self.died()),
@@ -270,14 +326,14 @@ impl QemuEdge {
                 Err(e) => return Err(EdgeError::Link(e)),
             }
             match self.deframer.push(byte[0]) {
-                Some(Ok(frame)) => match self.receiver.open::<Uplink>(frame) {
-                    Ok(m) => return Ok(m),
-                    Err(e @ LinkError::Tag) if self.receiver.stats().accepted == 0 => {
+                Some(Ok(frame)) => match self.link_state.open(frame) {
+                    Ok(m) => return Ok(Some(m)),
+                    Err(e @ LinkError::Tag) if self.link_state.stats().accepted == 0 => {
                         return Err(EdgeError::Key(e));
                     }
                     Err(_) => {}
                 },
-                Some(Err(e)) => self.receiver.count(e),
+                Some(Err(e)) => self.link_state.count(e),
                 None => {}
             }
         }
@@ -299,7 +355,7 @@ impl QemuEdge {
 
     /// The host side's receive counters.
     pub fn link_stats(&self) -> metamoran_dsp::wire::LinkStats {
-        self.receiver.stats()
+        self.link_state.stats()
     }
 }
 

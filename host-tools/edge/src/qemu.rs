@@ -29,15 +29,22 @@ pub fn find_firmware() -> Option<PathBuf> {
         .find(|f| f.join("Cargo.toml").is_file())
 }
 
-/// Builds binary `bin` of the firmware workspace `firmware` in release mode and returns its ELF
-/// path.
+/// Builds binary `bin` of the firmware workspace `firmware` in release mode, with the device
+/// key in `key_file` built in (`METAMORAN_LINK_KEY_FILE`; `None`: the checkout's QEMU module
+/// key, [`crate::keys::checkout_key`]), and returns its ELF path. Binaries built with the same
+/// key file share one build.
 ///
 /// # Errors
-/// [`EdgeError`] with cargo's output if the build fails.
-pub fn build(firmware: &Path, bin: &str) -> Result<PathBuf, EdgeError> {
+/// [`EdgeError`] with cargo's output if the build fails, or the key file cannot be made.
+pub fn build(firmware: &Path, bin: &str, key_file: Option<&Path>) -> Result<PathBuf, EdgeError> {
     let dir = firmware;
+    let key_file = match key_file {
+        Some(k) => k.to_owned(),
+        None => crate::keys::checkout_key(firmware)?,
+    };
     let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
         .current_dir(dir)
+        .env(crate::keys::KEY_FILE_ENV, &key_file)
         .args(["build", "--release", "--target", TARGET, "--bin", bin])
         .output()
         .map_err(EdgeError::Cargo)?;

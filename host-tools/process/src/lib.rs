@@ -27,7 +27,6 @@ use metamoran_bundle::geometry::{CameraModel, Point};
 use metamoran_bundle::{Bundle, OpenOptions};
 use metamoran_dsp::pipeline::ObjectHint;
 use metamoran_dsp::window::WindowKind;
-use metamoran_dsp::wire::Key;
 use metamoran_edge::link::{EdgeLog, QemuEdge};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -229,8 +228,8 @@ pub enum Runner {
     Qemu {
         /// The firmware's Cargo workspace (`firmware/` of a checkout), built for the run.
         firmware: PathBuf,
-        /// The link key the firmware was built with.
-        key: Key,
+        /// The module's device key file; the firmware is built with it.
+        key_file: PathBuf,
     },
 }
 
@@ -388,13 +387,14 @@ fn start_module(
     bundle: &Bundle,
     options: &ProcessOptions,
 ) -> Result<Option<QemuEdge>, ProcessError> {
-    let (Mode::Metamoran, Runner::Qemu { firmware, key }) = (options.mode, &options.runner) else {
+    let (Mode::Metamoran, Runner::Qemu { firmware, key_file }) = (options.mode, &options.runner)
+    else {
         return Ok(None);
     };
     if options.open.iq_order != metamoran_dsp::capture::IqOrder::Iiqq {
         return Err(ProcessError::IqOrder);
     }
-    let mut q = QemuEdge::start(&bundle.scene.adc_file, key.clone(), firmware)?;
+    let mut q = QemuEdge::start(&bundle.scene.adc_file, key_file, firmware)?;
     q.configure(&bundle.scene.radar)?;
     Ok(Some(q))
 }

@@ -9,7 +9,7 @@
 //! * telemetry: wire bytes of the uplink frames a frame produces, per object and per frame.
 
 use metamoran_dsp::wire::{
-    Alternative, DEV_KEY, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink,
+    Alternative, FrameSummary, Key, MAX_WIRE, ObjectResult, Sender, Stream, Uplink,
 };
 use metamoran_edge::qemu;
 use serde::Serialize;
@@ -84,7 +84,7 @@ fn sections(elf: &Path) -> Result<Vec<(String, u64)>, crate::Error> {
 /// # Errors
 /// A message if a build, QEMU or `size` fails or prints something unexpected.
 pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
-    let edge = qemu::build(firmware, "edge")?;
+    let edge = qemu::build(firmware, "edge", None)?;
     let secs = sections(&edge)?;
     let sum = |names: &[&str]| -> u64 {
         secs.iter()
@@ -95,7 +95,7 @@ pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
     let flash_bytes = sum(&[".vector_table", ".text", ".rodata", ".data"]);
     let ram_bytes = sum(&[".data", ".bss", ".uninit"]);
 
-    let elf = qemu::build(firmware, "pipeline-icount")?;
+    let elf = qemu::build(firmware, "pipeline-icount", None)?;
     let out = qemu::run(&elf, true, Duration::from_secs(300))?;
     let mut stages = Vec::new();
     let (mut total, mut stack) = (None, 0u64);
@@ -137,7 +137,7 @@ pub fn run(firmware: &Path) -> Result<Budget, crate::Error> {
     // The uplink of the budget frame: one Results message, measured with 4 objects and with
     // none, so the per-object figure is each object's own share of the wire.
     let frame_bytes = |objects: &[ObjectResult]| -> Result<u64, crate::Error> {
-        let mut sender = Sender::new(Key::new(&DEV_KEY), Stream::Uplink);
+        let mut sender = Sender::new(Key::new(&[0; 32]), Stream::Uplink);
         let mut buf = [0u8; MAX_WIRE];
         let summary = FrameSummary {
             frame: 36_000,
@@ -192,7 +192,7 @@ fn edge_stack(firmware: &Path) -> Result<u64, crate::Error> {
     let options = ProcessOptions {
         runner: Runner::Qemu {
             firmware: firmware.to_owned(),
-            key: Key::new(&DEV_KEY),
+            key_file: metamoran_edge::keys::checkout_key(firmware)?,
         },
         ..ProcessOptions::mode(Mode::Metamoran)
     };

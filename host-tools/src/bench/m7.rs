@@ -45,7 +45,7 @@ pub struct M7Report {
 /// # Errors
 /// A message if the build or QEMU fails or the output cannot be parsed.
 pub fn run(firmware: &std::path::Path) -> Result<M7Report, crate::Error> {
-    let elf = qemu::build(firmware, "fft-icount")?;
+    let elf = qemu::build(firmware, "fft-icount", None)?;
     let out = qemu::run(&elf, true, Duration::from_secs(120))?;
     let mut fft = Vec::new();
     for line in out.lines().filter(|l| l.starts_with("ICOUNT impl=")) {

@@ -11,6 +11,7 @@ pub mod map;
 pub mod odometry;
 pub mod process;
 pub mod progress;
+pub mod provision;
 pub mod simulate;
 pub mod summarize;
 

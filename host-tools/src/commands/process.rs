@@ -31,10 +31,12 @@ pub struct Args {
     /// under QEMU over the authenticated telemetry link (same JSON).
     #[arg(long, value_enum, default_value = "in-process")]
     edge: EdgeArg,
-    /// Link key for `--edge qemu`: 64 hex digits (default: the development key the firmware
-    /// is built with unless METAMORAN_LINK_KEY was set at its build).
-    #[arg(long, env = "METAMORAN_LINK_KEY", hide_env_values = true)]
-    link_key: Option<String>,
+    /// The module's device key file for `--edge qemu` (from `metamoran provision`; the
+    /// firmware is built with it). Default: the checkout's QEMU module key,
+    /// firmware/target/qemu-link.key, provisioned on first use. Keys never go on the command
+    /// line.
+    #[arg(long, env = "METAMORAN_LINK_KEY_FILE", value_name = "FILE")]
+    link_key_file: Option<PathBuf>,
     /// With `--edge qemu`: write the module's defmt log (binary frames) to this file; read it
     /// with `defmt-print -e firmware/target/thumbv7em-none-eabihf/release/edge < FILE`.
     #[arg(long, value_name = "FILE")]
@@ -60,10 +62,9 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         EdgeArg::InProcess => Runner::InProcess,
         EdgeArg::Qemu => Runner::Qemu {
             firmware: locations.firmware()?,
-            key: match &args.link_key {
-                Some(hex) => metamoran_dsp::wire::Key::from_hex(hex)
-                    .map_err(|e| format!("--link-key: {e}"))?,
-                None => metamoran_dsp::wire::Key::new(&metamoran_dsp::wire::DEV_KEY),
+            key_file: match &args.link_key_file {
+                Some(path) => path.clone(),
+                None => metamoran_edge::keys::checkout_key(&locations.firmware()?)?,
             },
         },
     };
