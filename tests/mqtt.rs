@@ -167,3 +167,153 @@ fn demo_publishes_objects_alerts_status_and_last_will() {
     let err = Publisher::connect(&gone).err().unwrap().to_string();
     assert!(err.contains(&format!("127.0.0.1:{port}")), "{err}");
 }
+
+/// mosquitto with a config file: persistence in `dir` (saved when it stops), on `port`.
+fn start_persistent_broker(dir: &std::path::Path, port: u16) -> Broker {
+    let conf = dir.join("mosquitto.conf");
+    // As root, mosquitto would switch to user `mosquitto`, who cannot write the test's folder.
+    let me = Command::new("id").arg("-un").output().unwrap().stdout;
+    std::fs::write(
+        &conf,
+        format!(
+            "listener {port} 127.0.0.1\nallow_anonymous true\npersistence true\n\
+             persistence_location {}/\nuser {}\n",
+            dir.display(),
+            String::from_utf8_lossy(&me).trim()
+        ),
+    )
+    .unwrap();
+    let child = Command::new("mosquitto")
+        .arg("-c")
+        .arg(&conf)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "mosquitto did not start");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    Broker(child, port)
+}
+
+/// Stops the broker as a service manager would (SIGTERM: it saves its state and exits).
+fn stop_broker(mut broker: Broker) {
+    let pid = broker.0.id().to_string();
+    assert!(
+        Command::new("kill")
+            .args(["-TERM", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
+    let _ = broker.0.wait();
+}
+
+/// Lines of `path` once it has at least `n`.
+fn wait_for_lines(path: &std::path::Path, n: usize) -> Vec<String> {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        if text.lines().count() >= n {
+            return text.lines().map(String::from).collect();
+        }
+        assert!(
+            Instant::now() < deadline,
+            "{} never had {n} lines",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Issue #18, item 10: the broker goes down after the first alert and comes back after the
+/// second was raised. The sensor keeps processing (every frame), writes each alert to
+/// alerts.jsonl before publishing it, reconnects, and a subscriber with a persistent session
+/// that was offline throughout receives every alert exactly once, in order. (Before, the first
+/// publish after the loss failed the run and every result was discarded.)
+#[test]
+fn alerts_survive_a_broker_restart() {
+    if Command::new("mosquitto").arg("-h").output().is_err() {
+        assert!(!oracles_required(), "mosquitto is required");
+        return;
+    }
+    let state = tempfile::tempdir().unwrap();
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let broker = start_persistent_broker(state.path(), port);
+    // The operator's station: a persistent session, subscribed, then offline.
+    let station = || {
+        let mut o = MqttOptions::new("station", "127.0.0.1", port);
+        o.set_clean_session(false);
+        Client::new(o, 64)
+    };
+    {
+        let (client, mut connection) = station();
+        client
+            .subscribe("metamoran/gate/alerts", QoS::AtLeastOnce)
+            .unwrap();
+        while !matches!(
+            connection.recv_timeout(Duration::from_secs(5)),
+            Ok(Ok(Event::Incoming(Packet::SubAck(_))))
+        ) {}
+        client.disconnect().unwrap();
+        while connection.recv_timeout(Duration::from_millis(200)).is_ok() {}
+    }
+    let out = tempfile::tempdir().unwrap();
+    let log = out.path().join("alerts.jsonl");
+    let config = MqttConfig::parse(&format!("127.0.0.1:{port}"), "gate").unwrap();
+    let demo = std::thread::spawn({
+        let dir = out.path().to_owned();
+        move || {
+            run(
+                &dir,
+                &DemoOptions {
+                    edge: DemoEdge::InProcess,
+                    mqtt: Some(config),
+                    realtime: true,
+                    ..DemoOptions::default()
+                },
+            )
+        }
+    });
+    wait_for_lines(&log, 1);
+    stop_broker(broker);
+    wait_for_lines(&log, 2);
+    std::thread::sleep(Duration::from_millis(500));
+    let broker = start_persistent_broker(state.path(), port);
+    let report = demo
+        .join()
+        .unwrap()
+        .expect("the run must survive the broker");
+    assert_eq!(report.frames, 22);
+    assert!(
+        report
+            .mqtt
+            .as_deref()
+            .unwrap_or("")
+            .contains("reconnection")
+    );
+    let logged = wait_for_lines(&log, report.alerts.len());
+    let expected: Vec<String> = report
+        .alerts
+        .iter()
+        .map(|a| serde_json::to_string(a).unwrap())
+        .collect();
+    assert_eq!(logged, expected);
+    assert!(expected.len() >= 3, "{expected:?}");
+
+    let (_client, mut connection) = station();
+    let mut got = Vec::new();
+    while let Ok(Ok(event)) = connection.recv_timeout(Duration::from_millis(1500)) {
+        if let Event::Incoming(Packet::Publish(p)) = event {
+            got.push(String::from_utf8_lossy(&p.payload).into_owned());
+        }
+    }
+    assert_eq!(got, expected, "every alert once, in order");
+    drop(broker);
+}

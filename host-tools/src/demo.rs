@@ -9,6 +9,7 @@
 
 use metamoran_bundle::OpenOptions;
 use metamoran_bundle::geometry::CameraModel;
+use metamoran_operator::alert_log::AlertLog;
 use metamoran_operator::geofence::{Alert, Geofence, Perimeter};
 use metamoran_operator::live::{LiveView, OperatorState, Track};
 use metamoran_operator::mqtt::MqttConfig;
@@ -158,6 +159,10 @@ struct Operator<'a> {
     period_s: f64,
     publisher: Option<&'a metamoran_operator::mqtt::Publisher>,
     published: &'a Published,
+    /// `alerts.jsonl`: every alert is on disk before it is published.
+    log: &'a std::cell::RefCell<AlertLog>,
+    /// Play the frames at the scene's frame rate even without the live view.
+    realtime: bool,
     view: Option<&'a mut LiveView>,
     /// When the first frame was sent (the live view paces the frames from it).
     started: std::time::Instant,
@@ -190,10 +195,16 @@ impl Operator<'_> {
         let time_s = f64::from(f.frame) * self.period_s;
         let alerts = self.fence.update(f.frame, time_s, &f.objects);
         let tracks = self.tracks(&f.objects);
-        if let Some(p) = self.publisher.filter(|_| self.published.take(f.frame)) {
-            p.frame(f)?;
+        // A frame is logged and published once, across the attempts of `--edge auto`.
+        if self.published.take(f.frame) {
             for a in &alerts {
-                p.alert(a)?;
+                self.log.borrow_mut().append(a)?;
+            }
+            if let Some(p) = self.publisher {
+                p.frame(f);
+                for a in &alerts {
+                    p.alert(a);
+                }
             }
         }
         let s = &mut self.state;
@@ -203,10 +214,11 @@ impl Operator<'_> {
         s.alerts.extend(alerts);
         s.link.update(s.frames_seen, e.latency, e.link);
         s.tracks = tracks;
-        let Some(view) = self.view.as_deref_mut() else {
+        if let Some(view) = self.view.as_deref_mut() {
+            view.show(&self.state)?;
+        } else if !self.realtime {
             return Ok(());
-        };
-        view.show(&self.state)?;
+        }
         // Live, the scene plays at its own frame rate, as a sensor would deliver it.
         let due = self.started + std::time::Duration::from_secs_f64(time_s + self.period_s);
         std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
@@ -227,6 +239,9 @@ pub struct DemoOptions {
     pub mqtt: Option<MqttConfig>,
     /// Draw the operator view on this terminal as each frame arrives.
     pub live: bool,
+    /// Deliver the frames at the scene's frame rate (as a sensor would) even without the live
+    /// view.
+    pub realtime: bool,
 }
 
 /// Runs the demo into `out` (created; its earlier demo files are replaced).
@@ -240,8 +255,10 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         perimeter,
         mqtt,
         live,
+        realtime,
     } = options;
     let (edge, perimeter, mqtt, live) = (*edge, perimeter.as_deref(), mqtt.as_ref(), *live);
+    let realtime = *realtime;
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
     let perimeter = install_perimeter(out, perimeter)?;
@@ -258,6 +275,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         .map(metamoran_operator::mqtt::Publisher::connect)
         .transpose()?;
     let published = Published::default();
+    let log = std::cell::RefCell::new(AlertLog::create(&out.join("alerts.jsonl"))?);
     let mut view = if live { Some(LiveView::start()?) } else { None };
     let (runner, words, fallback) = plan(edge, firmware.as_deref())?;
     let mut run_on = |runner: Runner, words: &str| {
@@ -275,6 +293,8 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
             period_s: period,
             publisher: publisher.as_ref(),
             published: &published,
+            log: &log,
+            realtime,
             view: view.as_mut(),
             started: std::time::Instant::now(),
         };
@@ -306,20 +326,8 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         alerts,
         ..
     } = state;
-    let published = match (mqtt, publisher) {
-        (Some(config), Some(publisher)) => {
-            publisher.close()?;
-            Some(format!(
-                "{} frame(s) and {} alert(s) to mqtt://{}:{} under {}",
-                output.frames.len(),
-                alerts.len(),
-                config.host,
-                config.port,
-                config.topic("#")
-            ))
-        }
-        _ => None,
-    };
+    // Everything is written before the broker is waited for: a broker that is away loses
+    // nothing (the alerts are in alerts.jsonl already).
     let files = write_files(
         out,
         &CameraModel::new(&scene.camera),
@@ -327,6 +335,31 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         period,
         &alerts,
     )?;
+    let (published, unpublished) = match (mqtt, publisher) {
+        (Some(config), Some(publisher)) => {
+            let to = format!(
+                "mqtt://{}:{} under {}",
+                config.host,
+                config.port,
+                config.topic("#")
+            );
+            match publisher.close() {
+                Ok(stats) => (
+                    Some(format!(
+                        "{} frame(s) and {} alert(s) to {to} ({} reconnection(s), {} objects \
+                         message(s) dropped while the broker was away)",
+                        output.frames.len(),
+                        alerts.len(),
+                        stats.reconnects,
+                        stats.objects_dropped
+                    )),
+                    None,
+                ),
+                Err(e) => (Some(format!("to {to}: {e}")), Some(e)),
+            }
+        }
+        _ => (None, None),
+    };
     let link = log.map(|l| link_words(&l.health));
     let mut report = DemoReport {
         out: out.to_path_buf(),
@@ -341,7 +374,10 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     };
     report.files.push("operator.txt".into());
     write(&out.join("operator.txt"), report.to_string().as_bytes())?;
-    Ok(report)
+    match unpublished {
+        Some(e) => Err(e.into()),
+        None => Ok(report),
+    }
 }
 
 /// Where the module runs for `edge`, in words, and whether a failure there falls back to this
@@ -421,8 +457,8 @@ fn simulate_scene(out: &Path) -> Result<PathBuf, crate::Error> {
         .ok_or("the simulator wrote no scene")?)
 }
 
-/// Writes the run's files into `out` (see [`write_outputs`], plus `alerts.jsonl`); returns
-/// their names, with the perimeter and the scene written before.
+/// Writes the run's files into `out` (see [`write_outputs`]); returns their names, with the
+/// perimeter, the scene and `alerts.jsonl` written before.
 fn write_files(
     out: &Path,
     camera: &CameraModel,
@@ -432,11 +468,7 @@ fn write_files(
 ) -> Result<Vec<String>, crate::Error> {
     let mut files = vec!["perimeter.toml".to_owned(), "scene/".to_owned()];
     files.extend(write_outputs(out, camera, output, period_s, alerts)?);
-    let alert_lines: String = alerts
-        .iter()
-        .map(|a| serde_json::to_string(a).unwrap_or_default() + "\n")
-        .collect();
-    write(&out.join("alerts.jsonl"), alert_lines.as_bytes())?;
+    // Appended and synced alert by alert as the run went (AlertLog).
     files.push("alerts.jsonl".into());
     Ok(files)
 }

@@ -6,6 +6,7 @@
 //!
 //! It sits above `metamoran-process` (it consumes its results) and below the `metamoran` binary.
 
+pub mod alert_log;
 pub mod depth_image;
 mod error;
 pub mod geofence;

@@ -3,14 +3,23 @@
 //! (`metamoran/<sensor>/alerts`, every one delivered at least once), and a retained status
 //! (`metamoran/<sensor>/status`): `online` while connected, `stopped` after a clean end, and
 //! the broker's last will `offline` when the connection is lost without one.
+//!
+//! Publishing never blocks the sensor and survives the broker (issue #18, item 10):
+//! - every QoS 1 message (alerts, status) waits in an outbox until the broker's PUBACK for it;
+//!   the network loop reconnects with exponential backoff (0.1 s to 5 s) and, when the broker
+//!   lost our session (a restart without persistence), publishes every unacknowledged one again,
+//!   in order; frames go on meanwhile (objects, QoS 0, are dropped while disconnected);
+//! - the session is persistent (`clean_session = false`), so a broker that kept it resends
+//!   nothing twice: rumqttc retransmits the in-flight messages with their packet ids;
+//! - alerts are on disk first ([`crate::alert_log`]): a broker that never comes back loses
+//!   nothing, and [`Publisher::close`] says how many were not acknowledged.
 
 use crate::OperatorError;
 use crate::geofence::Alert;
 use metamoran_process::FrameResult;
 use rumqttc::{Client, Connection, Event, LastWill, MqttOptions, Packet, QoS};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
-use std::sync::mpsc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, mpsc};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -60,23 +69,102 @@ impl MqttConfig {
     }
 }
 
-/// A connected publisher; its network loop runs on a thread.
+/// A QoS 1 message waiting for its PUBACK.
+#[derive(Debug)]
+struct Pending {
+    topic: String,
+    retain: bool,
+    payload: Vec<u8>,
+    /// Handed to the client in the current broker session.
+    handed: bool,
+    /// The packet id the client gave it (when it went out).
+    pkid: Option<u16>,
+}
+
+/// The outbox shared by the publishing side and the network loop.
+#[derive(Debug, Default)]
+struct Outbox {
+    pending: std::collections::VecDeque<Pending>,
+    /// Messages ever queued, and acknowledged.
+    queued: u64,
+    acked: u64,
+    connected: bool,
+    reconnects: u32,
+    last_error: Option<String>,
+}
+
+impl Outbox {
+    /// Hands every message not yet handed in this session to `client`, in order, until its
+    /// queue is full.
+    fn hand(&mut self, client: &Client) {
+        for p in self.pending.iter_mut().filter(|p| !p.handed) {
+            let sent = client.try_publish(
+                p.topic.clone(),
+                QoS::AtLeastOnce,
+                p.retain,
+                p.payload.clone(),
+            );
+            if sent.is_err() {
+                return;
+            }
+            p.handed = true;
+        }
+    }
+
+    /// A QoS 1 publish went out with `pkid`: a retransmission if some message has it, else it
+    /// is the oldest handed message without one (the client sends them in order).
+    fn went_out(&mut self, pkid: u16) {
+        if pkid == 0 || self.pending.iter().any(|p| p.pkid == Some(pkid)) {
+            return;
+        }
+        if let Some(p) = self
+            .pending
+            .iter_mut()
+            .find(|p| p.handed && p.pkid.is_none())
+        {
+            p.pkid = Some(pkid);
+        }
+    }
+
+    /// The broker acknowledged `pkid`.
+    fn acknowledged(&mut self, pkid: u16) {
+        if let Some(i) = self.pending.iter().position(|p| p.pkid == Some(pkid)) {
+            self.pending.remove(i);
+            self.acked += 1;
+        }
+    }
+
+    /// A new broker session that does not hold ours: whatever was handed is gone from the
+    /// client; hand it again.
+    fn session_lost(&mut self) {
+        for p in &mut self.pending {
+            p.handed = false;
+            p.pkid = None;
+        }
+    }
+}
+
+/// A publisher; its network loop runs on a thread and reconnects on its own.
 pub struct Publisher {
     client: Client,
     config: MqttConfig,
     stop: Arc<AtomicBool>,
-    /// QoS 1 messages published, and acknowledged by the broker.
-    sent: AtomicU32,
-    acked: Arc<AtomicU32>,
+    outbox: Arc<Mutex<Outbox>>,
+    /// QoS 0 messages dropped because the client's queue was full (broker away).
+    dropped: std::sync::atomic::AtomicU32,
     pump: Option<JoinHandle<()>>,
 }
 
-/// How long to wait for the broker's CONNACK.
+/// How long to wait for the broker's first CONNACK.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+/// How long [`Publisher::close`] waits for the last acknowledgements.
+pub const CLOSE_TIMEOUT: Duration = Duration::from_secs(30);
+/// Longest wait between two reconnection attempts.
+const MAX_BACKOFF: Duration = Duration::from_secs(5);
 
 impl Publisher {
-    /// Connects (clean session, last will `offline` retained) and publishes `online` retained;
-    /// returns once the broker has acknowledged it.
+    /// Connects (persistent session, last will `offline` retained) and publishes `online`
+    /// retained; returns once the broker has acknowledged it.
     ///
     /// # Errors
     /// [`OperatorError`] naming the broker when it does not accept the connection in 5 s.
@@ -88,7 +176,7 @@ impl Publisher {
         );
         options
             .set_keep_alive(Duration::from_secs(5))
-            .set_clean_session(true)
+            .set_clean_session(false)
             .set_last_will(LastWill::new(
                 config.topic("status"),
                 "offline",
@@ -97,81 +185,96 @@ impl Publisher {
             ));
         let (client, connection) = Client::new(options, 64);
         let stop = Arc::new(AtomicBool::new(false));
-        let acked = Arc::new(AtomicU32::new(0));
+        let outbox = Arc::new(Mutex::new(Outbox::default()));
         let (ready, connected) = mpsc::channel();
         let pump = std::thread::spawn({
-            let (stop, acked) = (stop.clone(), acked.clone());
-            move || pump(connection, &stop, &acked, ready)
+            let (stop, outbox, client) = (stop.clone(), outbox.clone(), client.clone());
+            move || pump(connection, &client, &stop, &outbox, ready)
         });
         let broker = format!("{}:{}", config.host, config.port);
-        match connected.recv_timeout(CONNECT_TIMEOUT) {
+        let first = connected.recv_timeout(CONNECT_TIMEOUT);
+        let mut p = Self {
+            client,
+            config: config.clone(),
+            stop,
+            outbox,
+            dropped: std::sync::atomic::AtomicU32::new(0),
+            pump: Some(pump),
+        };
+        match first {
             Ok(Ok(())) => {}
-            Ok(Err(problem)) => return Err(OperatorError::Broker { broker, problem }),
+            Ok(Err(problem)) => {
+                p.halt();
+                return Err(OperatorError::Broker { broker, problem });
+            }
             Err(_) => {
+                p.halt();
                 return Err(OperatorError::Broker {
                     broker,
                     problem: "no answer in 5 s; is it running?".to_owned(),
                 });
             }
         }
-        let p = Self {
-            client,
-            config: config.clone(),
-            stop,
-            sent: AtomicU32::new(0),
-            acked,
-            pump: Some(pump),
-        };
-        p.send("status", QoS::AtLeastOnce, true, b"online".to_vec())?;
-        p.flush()?;
+        p.reliable("status", true, b"online".to_vec());
+        p.flush(CONNECT_TIMEOUT)?;
         Ok(p)
     }
 
-    /// Waits until the broker has acknowledged every QoS 1 message published so far.
+    fn broker(&self) -> String {
+        format!("{}:{}", self.config.host, self.config.port)
+    }
+
+    fn outbox(&self) -> std::sync::MutexGuard<'_, Outbox> {
+        self.outbox
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Waits up to `timeout` until the broker has acknowledged every QoS 1 message so far.
     ///
     /// # Errors
-    /// [`OperatorError`] naming the broker if that takes more than 5 s.
-    pub fn flush(&self) -> Result<(), OperatorError> {
-        let deadline = std::time::Instant::now() + CONNECT_TIMEOUT;
-        while self.acked.load(Ordering::Relaxed) < self.sent.load(Ordering::Relaxed) {
+    /// [`OperatorError`] naming the broker and how many are still unacknowledged.
+    pub fn flush(&self, timeout: Duration) -> Result<(), OperatorError> {
+        let deadline = std::time::Instant::now() + timeout;
+        loop {
+            let (left, error) = {
+                let mut o = self.outbox();
+                o.hand(&self.client);
+                (o.pending.len(), o.last_error.clone())
+            };
+            if left == 0 {
+                return Ok(());
+            }
             if std::time::Instant::now() > deadline {
                 return Err(OperatorError::Broker {
-                    broker: format!("{}:{}", self.config.host, self.config.port),
+                    broker: self.broker(),
                     problem: format!(
-                        "{} of {} alerts/status messages unacknowledged after 5 s",
-                        self.sent.load(Ordering::Relaxed) - self.acked.load(Ordering::Relaxed),
-                        self.sent.load(Ordering::Relaxed)
+                        "{left} alert/status message(s) unacknowledged after {timeout:?}{}; \
+                         the alerts are in alerts.jsonl",
+                        error.map_or(String::new(), |e| format!(" (last error: {e})"))
                     ),
                 });
             }
             std::thread::sleep(Duration::from_millis(5));
         }
-        Ok(())
     }
 
-    fn send(
-        &self,
-        leaf: &str,
-        qos: QoS,
-        retain: bool,
-        payload: Vec<u8>,
-    ) -> Result<(), OperatorError> {
-        if qos == QoS::AtLeastOnce {
-            self.sent.fetch_add(1, Ordering::Relaxed);
-        }
-        self.client
-            .publish(self.config.topic(leaf), qos, retain, payload)
-            .map_err(|e| OperatorError::Publish {
-                topic: self.config.topic(leaf),
-                reason: e.to_string(),
-            })
+    /// Queues a QoS 1 message: kept until the broker acknowledges it.
+    fn reliable(&self, leaf: &str, retain: bool, payload: Vec<u8>) {
+        let mut o = self.outbox();
+        o.pending.push_back(Pending {
+            topic: self.config.topic(leaf),
+            retain,
+            payload,
+            handed: false,
+            pkid: None,
+        });
+        o.queued += 1;
+        o.hand(&self.client);
     }
 
-    /// Publishes a frame's objects (QoS 0).
-    ///
-    /// # Errors
-    /// [`OperatorError`] if the publisher is closed.
-    pub fn frame(&self, frame: &FrameResult) -> Result<(), OperatorError> {
+    /// Publishes a frame's objects (QoS 0); dropped (and counted) while the broker is away.
+    pub fn frame(&self, frame: &FrameResult) {
         let objects: Vec<_> = frame
             .objects
             .iter()
@@ -184,54 +287,85 @@ impl Publisher {
             })
             .collect();
         let body = serde_json::json!({ "frame": frame.frame, "objects": objects });
-        self.send(
-            "objects",
+        // Retry what waits first: alerts go before objects.
+        self.outbox().hand(&self.client);
+        let sent = self.client.try_publish(
+            self.config.topic("objects"),
             QoS::AtMostOnce,
             false,
             body.to_string().into_bytes(),
-        )
+        );
+        if sent.is_err() {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
+        }
     }
 
-    /// Publishes an alert (QoS 1).
-    ///
-    /// # Errors
-    /// [`OperatorError`] if the publisher is closed.
-    pub fn alert(&self, alert: &Alert) -> Result<(), OperatorError> {
-        let body = serde_json::to_vec(alert).map_err(|e| OperatorError::Publish {
-            topic: self.config.topic("alerts"),
-            reason: e.to_string(),
-        })?;
-        self.send("alerts", QoS::AtLeastOnce, false, body)
+    /// Publishes an alert (QoS 1): queued until the broker acknowledges it, never blocking.
+    pub fn alert(&self, alert: &Alert) {
+        // An Alert is plain data: serializing it cannot fail.
+        let body = serde_json::to_vec(alert).unwrap_or_default();
+        self.reliable("alerts", false, body);
+    }
+
+    /// What the link did: messages queued and acknowledged, reconnections, objects dropped.
+    pub fn stats(&self) -> PublishStats {
+        let o = self.outbox();
+        PublishStats {
+            queued: o.queued,
+            acked: o.acked,
+            reconnects: o.reconnects,
+            objects_dropped: self.dropped.load(Ordering::Relaxed),
+            connected: o.connected,
+        }
     }
 
     /// Publishes `stopped` retained and disconnects cleanly (no last will) once the broker has
-    /// acknowledged every QoS 1 message (alerts, status).
+    /// acknowledged every QoS 1 message (alerts, status), waiting up to [`CLOSE_TIMEOUT`].
     ///
     /// # Errors
-    /// [`OperatorError`] if the broker does not acknowledge them within 5 s.
-    pub fn close(mut self) -> Result<(), OperatorError> {
-        self.send("status", QoS::AtLeastOnce, true, b"stopped".to_vec())?;
-        self.flush()?;
-        self.client
-            .disconnect()
-            .map_err(|e| OperatorError::Publish {
-                topic: self.config.topic("status"),
-                reason: format!("disconnect: {e}"),
-            })?;
+    /// [`OperatorError`] if the broker does not acknowledge them in time.
+    pub fn close(mut self) -> Result<PublishStats, OperatorError> {
+        self.reliable("status", true, b"stopped".to_vec());
+        let flushed = self.flush(CLOSE_TIMEOUT);
+        let stats = self.stats();
+        if flushed.is_err() {
+            self.halt();
+            return flushed.map(|()| stats);
+        }
+        let _ = self.client.disconnect();
         if let Some(p) = self.pump.take() {
             let _ = p.join();
         }
-        Ok(())
+        Ok(stats)
     }
 
     /// Drops the connection without a DISCONNECT, as a crash or a cut cable would: the broker
     /// then publishes the last will.
     pub fn abort(mut self) {
+        self.halt();
+    }
+
+    fn halt(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
         if let Some(p) = self.pump.take() {
             let _ = p.join();
         }
     }
+}
+
+/// A publisher's counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PublishStats {
+    /// QoS 1 messages (alerts, status) queued.
+    pub queued: u64,
+    /// Of them, acknowledged by the broker.
+    pub acked: u64,
+    /// Reconnections after a lost connection.
+    pub reconnects: u32,
+    /// Objects messages (QoS 0) dropped while the broker was away.
+    pub objects_dropped: u32,
+    /// Whether the broker is connected now.
+    pub connected: bool,
 }
 
 impl Drop for Publisher {
@@ -240,32 +374,62 @@ impl Drop for Publisher {
     }
 }
 
-/// The network loop: reports the CONNACK (or the first error) and counts PUBACKs, until a
-/// clean disconnect, an error, or `stop`.
+/// The network loop: reports the first CONNACK (or the first error), tracks acknowledgements,
+/// and reconnects with backoff after an error, until a clean disconnect or `stop`.
 fn pump(
     mut connection: Connection,
+    client: &Client,
     stop: &AtomicBool,
-    acked: &AtomicU32,
+    outbox: &Mutex<Outbox>,
     ready: mpsc::Sender<Result<(), String>>,
 ) {
     let mut ready = Some(ready);
+    let mut backoff = Duration::from_millis(100);
+    let lock = || {
+        outbox
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    };
     while !stop.load(Ordering::Relaxed) {
         match connection.recv_timeout(Duration::from_millis(50)) {
-            Ok(Ok(Event::Incoming(Packet::ConnAck(_)))) => {
-                if let Some(r) = ready.take() {
-                    let _ = r.send(Ok(()));
+            Ok(Ok(Event::Incoming(Packet::ConnAck(ack)))) => {
+                backoff = Duration::from_millis(100);
+                let mut o = lock();
+                if ready.take().is_some_and(|r| r.send(Ok(())).is_ok()) {
+                    o.connected = true;
+                    continue;
                 }
+                o.connected = true;
+                o.reconnects += 1;
+                if !ack.session_present {
+                    o.session_lost();
+                }
+                o.hand(client);
             }
-            Ok(Ok(Event::Incoming(Packet::PubAck(_)))) => {
-                acked.fetch_add(1, Ordering::Relaxed);
+            Ok(Ok(Event::Outgoing(rumqttc::Outgoing::Publish(pkid)))) => lock().went_out(pkid),
+            Ok(Ok(Event::Incoming(Packet::PubAck(ack)))) => {
+                let mut o = lock();
+                o.acknowledged(ack.pkid);
+                o.hand(client);
             }
             Ok(Ok(Event::Outgoing(rumqttc::Outgoing::Disconnect))) => return,
             Ok(Ok(_)) | Err(rumqttc::RecvTimeoutError::Timeout) => {}
             Ok(Err(e)) => {
                 if let Some(r) = ready.take() {
                     let _ = r.send(Err(e.to_string()));
+                    return;
                 }
-                return;
+                {
+                    let mut o = lock();
+                    o.connected = false;
+                    o.last_error = Some(e.to_string());
+                }
+                // The next poll reconnects; wait first, longer each time.
+                let until = std::time::Instant::now() + backoff;
+                while std::time::Instant::now() < until && !stop.load(Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(20));
+                }
+                backoff = (backoff * 2).min(MAX_BACKOFF);
             }
             Err(rumqttc::RecvTimeoutError::Disconnected) => return,
         }

@@ -57,6 +57,10 @@ pub struct Args {
     /// --json is not given); the final operator view is printed either way.
     #[arg(long)]
     no_live: bool,
+    /// Deliver the frames at the scene's frame rate (2 Hz, 11 s) even without the live view,
+    /// as a sensor would.
+    #[arg(long)]
+    realtime: bool,
 }
 
 /// Runs `metamoran demo`.
@@ -74,6 +78,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
             .map(|b| MqttConfig::parse(b, &args.sensor))
             .transpose()?,
         live: !args.json && !args.no_live && std::io::IsTerminal::is_terminal(&std::io::stdout()),
+        realtime: args.realtime,
     };
     super::print(&metamoran::demo::run(&args.out, &options)?, args.json)
 }
