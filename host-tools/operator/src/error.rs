@@ -57,6 +57,14 @@ pub enum OperatorError {
         /// What happened.
         problem: String,
     },
+    /// A TLS file or the credentials for the broker are unusable.
+    #[error("MQTT TLS/credentials, {what}: {problem}")]
+    MqttSecurity {
+        /// The file or setting.
+        what: String,
+        /// What is wrong and what to do.
+        problem: String,
+    },
     /// A message could not be queued for publishing.
     #[error("MQTT {topic}: {reason}")]
     Publish {

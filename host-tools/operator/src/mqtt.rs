@@ -18,6 +18,7 @@ use crate::OperatorError;
 use crate::geofence::Alert;
 use metamoran_process::FrameResult;
 use rumqttc::{Client, Connection, Event, LastWill, MqttOptions, Packet, QoS};
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
 use std::thread::JoinHandle;
@@ -32,6 +33,93 @@ pub struct MqttConfig {
     pub port: u16,
     /// Sensor id: the topic level under `metamoran/` and the MQTT client id.
     pub sensor: String,
+    /// TLS to the broker (`None`: plain TCP, for a broker on loopback only).
+    pub tls: Option<MqttTls>,
+    /// Username and password for the broker.
+    pub login: Option<MqttLogin>,
+}
+
+/// TLS to the broker: the CA that signs its certificate, and the client's own certificate
+/// where the broker requires one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MqttTls {
+    /// PEM file of the CA certificate(s) trusted for the broker.
+    pub ca: PathBuf,
+    /// PEM files of the client certificate chain and its private key.
+    pub client: Option<(PathBuf, PathBuf)>,
+}
+
+/// A broker login. `Debug` never shows the password.
+#[derive(Clone, PartialEq, Eq)]
+pub struct MqttLogin {
+    /// Username.
+    pub username: String,
+    password: String,
+}
+
+impl std::fmt::Debug for MqttLogin {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "MqttLogin({}, ..)", self.username)
+    }
+}
+
+impl MqttLogin {
+    /// `username` with `password` (from a file or the environment, never the command line).
+    pub fn new(username: &str, password: String) -> Self {
+        Self {
+            username: username.to_owned(),
+            password,
+        }
+    }
+}
+
+fn security(what: &Path, problem: impl ToString) -> OperatorError {
+    OperatorError::MqttSecurity {
+        what: what.display().to_string(),
+        problem: problem.to_string(),
+    }
+}
+
+impl MqttTls {
+    /// The rustls client configuration: the CA as the only root, TLS 1.2 and 1.3 (ring).
+    ///
+    /// # Errors
+    /// [`OperatorError::MqttSecurity`] naming the unreadable or invalid file.
+    pub fn client_config(&self) -> Result<rustls::ClientConfig, OperatorError> {
+        use rustls_pki_types::pem::PemObject;
+        use rustls_pki_types::{CertificateDer, PrivateKeyDer};
+        let certs = |path: &Path| -> Result<Vec<CertificateDer<'static>>, OperatorError> {
+            let certs = CertificateDer::pem_file_iter(path)
+                .and_then(Iterator::collect::<Result<Vec<_>, _>>)
+                .map_err(|e| security(path, format!("not a PEM certificate file ({e})")))?;
+            if certs.is_empty() {
+                return Err(security(path, "holds no certificate"));
+            }
+            Ok(certs)
+        };
+        let mut roots = rustls::RootCertStore::empty();
+        for cert in certs(&self.ca)? {
+            roots
+                .add(cert)
+                .map_err(|e| security(&self.ca, format!("not a usable CA certificate ({e})")))?;
+        }
+        let provider = Arc::new(rustls::crypto::ring::default_provider());
+        let builder = rustls::ClientConfig::builder_with_provider(provider)
+            .with_safe_default_protocol_versions()
+            .map_err(|e| security(&self.ca, e))?
+            .with_root_certificates(roots);
+        match &self.client {
+            None => Ok(builder.with_no_client_auth()),
+            Some((cert, key)) => {
+                let chain = certs(cert)?;
+                let key = PrivateKeyDer::from_pem_file(key)
+                    .map_err(|e| security(key, format!("not a PEM private key ({e})")))?;
+                builder
+                    .with_client_auth_cert(chain, key)
+                    .map_err(|e| security(cert, format!("does not match its key ({e})")))
+            }
+        }
+    }
 }
 
 impl MqttConfig {
@@ -60,7 +148,28 @@ impl MqttConfig {
             host: host.to_owned(),
             port,
             sensor: sensor.to_owned(),
+            tls: None,
+            login: None,
         })
+    }
+
+    /// The client options for client id `client_id`: keep-alive 5 s, TLS and login as set.
+    ///
+    /// # Errors
+    /// [`OperatorError::MqttSecurity`] if a TLS file is unusable.
+    pub fn options(&self, client_id: &str) -> Result<MqttOptions, OperatorError> {
+        let mut options = MqttOptions::new(client_id, &self.host, self.port);
+        options.set_keep_alive(Duration::from_secs(5));
+        if let Some(tls) = &self.tls {
+            let config = tls.client_config()?;
+            options.set_transport(rumqttc::Transport::tls_with_config(
+                rumqttc::TlsConfiguration::Rustls(Arc::new(config)),
+            ));
+        }
+        if let Some(login) = &self.login {
+            options.set_credentials(login.username.clone(), login.password.clone());
+        }
+        Ok(options)
     }
 
     /// The topic `metamoran/<sensor>/<leaf>`.
@@ -169,13 +278,8 @@ impl Publisher {
     /// # Errors
     /// [`OperatorError`] naming the broker when it does not accept the connection in 5 s.
     pub fn connect(config: &MqttConfig) -> Result<Self, OperatorError> {
-        let mut options = MqttOptions::new(
-            format!("metamoran-{}", config.sensor),
-            &config.host,
-            config.port,
-        );
+        let mut options = config.options(&format!("metamoran-{}", config.sensor))?;
         options
-            .set_keep_alive(Duration::from_secs(5))
             .set_clean_session(false)
             .set_last_will(LastWill::new(
                 config.topic("status"),

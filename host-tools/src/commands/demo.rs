@@ -2,7 +2,7 @@
 
 use super::args::Locations;
 use metamoran::demo::{DemoEdge, DemoOptions};
-use metamoran_operator::mqtt::MqttConfig;
+use metamoran_operator::mqtt::{MqttConfig, MqttLogin, MqttTls};
 use std::path::PathBuf;
 
 /// Where the demo's module runs.
@@ -50,6 +50,22 @@ pub struct Args {
     /// Sensor id for the MQTT topics and client id.
     #[arg(long, default_value = "demo")]
     sensor: String,
+    /// TLS to the broker: PEM file of the CA that signs its certificate.
+    #[arg(long, value_name = "PEM", requires = "mqtt")]
+    mqtt_ca: Option<PathBuf>,
+    /// TLS client certificate (PEM chain) for brokers that require one; with --mqtt-key.
+    #[arg(long, value_name = "PEM", requires_all = ["mqtt_ca", "mqtt_key"])]
+    mqtt_cert: Option<PathBuf>,
+    /// The TLS client certificate's private key (PEM).
+    #[arg(long, value_name = "PEM", requires = "mqtt_cert")]
+    mqtt_key: Option<PathBuf>,
+    /// Broker username; the password comes from METAMORAN_MQTT_PASSWORD or
+    /// --mqtt-password-file, never the command line.
+    #[arg(long, requires = "mqtt")]
+    mqtt_user: Option<String>,
+    /// File holding the broker password (its first line).
+    #[arg(long, value_name = "FILE", requires = "mqtt_user")]
+    mqtt_password_file: Option<PathBuf>,
     /// Print JSON instead of the operator view.
     #[arg(long)]
     json: bool,
@@ -61,6 +77,38 @@ pub struct Args {
     /// as a sensor would.
     #[arg(long)]
     realtime: bool,
+}
+
+/// The broker `broker` with the TLS files and login of `args`.
+fn mqtt_config(args: &Args, broker: &str) -> Result<MqttConfig, metamoran::Error> {
+    let mut config = MqttConfig::parse(broker, &args.sensor)?;
+    config.tls = args.mqtt_ca.as_ref().map(|ca| MqttTls {
+        ca: ca.clone(),
+        client: args.mqtt_cert.clone().zip(args.mqtt_key.clone()),
+    });
+    if let Some(user) = &args.mqtt_user {
+        let password = match (
+            &args.mqtt_password_file,
+            std::env::var("METAMORAN_MQTT_PASSWORD"),
+        ) {
+            (Some(file), _) => std::fs::read_to_string(file)
+                .map_err(|e| format!("--mqtt-password-file {}: {e}", file.display()))?
+                .lines()
+                .next()
+                .unwrap_or_default()
+                .to_owned(),
+            (None, Ok(p)) => p,
+            (None, Err(_)) => {
+                return Err(
+                    "--mqtt-user: give the password in METAMORAN_MQTT_PASSWORD or \
+                     --mqtt-password-file"
+                        .into(),
+                );
+            }
+        };
+        config.login = Some(MqttLogin::new(user, password));
+    }
+    Ok(config)
 }
 
 /// Runs `metamoran demo`.
@@ -75,7 +123,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         mqtt: args
             .mqtt
             .as_deref()
-            .map(|b| MqttConfig::parse(b, &args.sensor))
+            .map(|b| mqtt_config(args, b))
             .transpose()?,
         live: !args.json && !args.no_live && std::io::IsTerminal::is_terminal(&std::io::stdout()),
         realtime: args.realtime,
