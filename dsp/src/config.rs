@@ -85,6 +85,7 @@ pub enum ConfigError {
 
 /// A quantity [`RadarConfig::validate`] derives from several fields and bounds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Derived {
     /// The carrier `start_frequency_hz`, Hz: 1–300 GHz.
     Carrier,
