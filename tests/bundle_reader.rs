@@ -304,6 +304,17 @@ fn camera_violations_name_the_file() {
         .unwrap();
     });
     assert_names(&err, "000000_instances.json", "instances[1].id");
+    // Id 0 means "no instance" in the mask: listing it is an error (issue #18: disabling this
+    // check survived every test).
+    let err = error_after(|d| {
+        std::fs::write(
+            d.join("camera/000000_instances.json"),
+            r#"{"instances": [{"id": 0, "class": "car"}, {"id": 1, "class": "car"}, {"id": 2, "class": "wall"}]}"#,
+        )
+        .unwrap();
+    });
+    assert_names(&err, "000000_instances.json", "instances[0].id");
+    assert!(err.contains("ids start at 1"), "{err}");
     let err = error_after(|d| {
         std::fs::write(
             d.join("camera/000000_instances.json"),

@@ -5,7 +5,7 @@
 
 use metamoran::demo::{DemoEdge, DemoOptions, run};
 use metamoran_e2e::{firmware_dir, oracles_required, qemu_available, run_oracle};
-use metamoran_operator::geofence::{AlertKind, Perimeter, signed_distance};
+use metamoran_operator::geofence::AlertKind;
 
 #[test]
 fn demo_alerts_images_and_points_match_the_truth() {
@@ -38,59 +38,77 @@ fn demo_alerts_images_and_points_match_the_truth() {
     let frames = truth["frames"].as_array().unwrap();
     assert_eq!(report.frames, frames.len());
     assert!(frames.len() >= 10, "the demo is a multi-frame scene");
-    let perimeter = Perimeter::load(&out.join("perimeter.toml")).unwrap();
-    // Expected alerts: the perimeter's rule run on the truth positions (restricted classes,
-    // enter at the border, leave `hysteresis_m` outside), and the same without hysteresis to
-    // show that the scene would make an object flap.
-    let expect = |hysteresis: f64| {
-        let mut inside = std::collections::HashMap::new();
-        let mut alerts = Vec::new();
-        for f in frames {
-            for o in f["objects"].as_array().unwrap() {
-                let class = o["class"].as_str().unwrap();
-                if !perimeter.restricted_classes.iter().any(|c| c == class) {
-                    continue;
-                }
+    // Expected alerts, without the code under test (issue #18: this test used to run a copy
+    // of the geofence's rule): the built-in zones are axis-aligned rectangles, so the truth
+    // position's signed distance to each has a closed form; the scene's story gives the events.
+    let zones = [
+        ("far lot", [-10.0, 30.0, 20.0, 55.0]),
+        ("gate", [-3.0, 8.0, 3.0, 16.0]),
+    ];
+    let perimeter = std::fs::read_to_string(out.join("perimeter.toml")).unwrap();
+    assert!(perimeter.contains("[[-3.0, 8.0], [3.0, 8.0], [3.0, 16.0], [-3.0, 16.0]]"));
+    assert!(perimeter.contains("[[-10.0, 30.0], [20.0, 30.0], [20.0, 55.0], [-10.0, 55.0]]"));
+    assert!(perimeter.contains("hysteresis_m = 1.0"));
+    // Positive inside (distance to the nearest side), negative outside (to the rectangle).
+    let signed = |[x0, z0, x1, z1]: [f64; 4], x: f64, z: f64| {
+        if (x0..=x1).contains(&x) && (z0..=z1).contains(&z) {
+            (x - x0).min(x1 - x).min(z - z0).min(z1 - z)
+        } else {
+            let dx = (x0 - x).max(x - x1).max(0.0);
+            let dz = (z0 - z).max(z - z1).max(0.0);
+            -dx.hypot(dz)
+        }
+    };
+    // Per (instance, zone): the truth's signed distance in every frame.
+    let track = |instance: u64, rect: [f64; 4]| -> Vec<f64> {
+        frames
+            .iter()
+            .map(|f| {
+                let o = f["objects"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|o| o["instance"] == instance)
+                    .unwrap();
                 let (d, az) = (
                     o["depth_m"].as_f64().unwrap(),
                     o["azimuth_deg"].as_f64().unwrap().to_radians(),
                 );
-                let id = o["instance"].as_u64().unwrap() as u16;
-                for z in &perimeter.zones {
-                    let s = signed_distance(&z.polygon, [d * az.sin(), d * az.cos()]);
-                    let state = inside.entry((id, z.name.clone())).or_insert(false);
-                    let kind = match (*state, s) {
-                        (false, s) if s >= 0.0 => AlertKind::Enter,
-                        (true, s) if s < -hysteresis => AlertKind::Exit,
-                        _ => continue,
-                    };
-                    *state = kind == AlertKind::Enter;
-                    alerts.push((
-                        id,
-                        z.name.clone(),
-                        kind,
-                        f["frame"].as_u64().unwrap() as u32,
-                    ));
-                }
-            }
-        }
-        alerts
+                signed(rect, d * az.sin(), d * az.cos())
+            })
+            .collect()
     };
-    let expected = expect(perimeter.hysteresis_m);
-    let flapping = expect(0.0);
+    let (car, person) = (1u64, 2u64);
+    let car_far = track(car, zones[0].1);
+    let person_gate = track(person, zones[1].1);
+    // The story: the car is parked inside the far lot from the start; the person walks into
+    // the gate, lingers just outside its border (less than the 1 m hysteresis) and leaves.
+    assert!(car_far.iter().all(|&s| s > 0.0), "{car_far:?}");
+    assert!(track(person, zones[0].1).iter().all(|&s| s < 0.0));
+    assert!(track(car, zones[1].1).iter().all(|&s| s < 0.0));
+    let enter = person_gate.iter().position(|&s| s >= 0.0).unwrap();
+    let left = person_gate.iter().rposition(|&s| s >= 0.0).unwrap();
+    let gone = (left..frames.len())
+        .find(|&f| person_gate[f] < -1.0)
+        .unwrap();
+    let lingers = (enter..left).any(|f| person_gate[f] < 0.0 && person_gate[f] > -1.0);
     assert!(
-        flapping.len() > expected.len(),
-        "the scene does not test hysteresis: {flapping:?}"
+        lingers,
+        "the scene does not test hysteresis: {person_gate:?}"
     );
-    assert!(expected.iter().any(|a| a.2 == AlertKind::Exit));
+    let want = [
+        (1u16, "far lot", AlertKind::Enter, 0),
+        (2u16, "gate", AlertKind::Enter, enter as u32),
+        (2u16, "gate", AlertKind::Exit, gone as u32),
+    ];
     let got: Vec<_> = report
         .alerts
         .iter()
-        .map(|a| (a.instance, a.zone.clone(), a.kind))
+        .map(|a| (a.instance, a.zone.as_str(), a.kind))
         .collect();
-    let want: Vec<_> = expected.iter().map(|a| (a.0, a.1.clone(), a.2)).collect();
-    assert_eq!(got, want, "alerts {:?}", report.alerts);
-    for (a, e) in report.alerts.iter().zip(&expected) {
+    let want_kinds: Vec<_> = want.iter().map(|w| (w.0, w.1, w.2)).collect();
+    assert_eq!(got, want_kinds, "alerts {:?}", report.alerts);
+    for (a, e) in report.alerts.iter().zip(&want) {
         // Within a frame of the truth crossing (the radar depth and camera azimuth are close to,
         // not exactly, the truth), with the object's depth then.
         assert!(a.frame.abs_diff(e.3) <= 1, "{a:?} vs truth frame {}", e.3);

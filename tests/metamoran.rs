@@ -49,9 +49,27 @@ fn coarse_to_fine_agrees_with_brute_force() {
         agree as f64 >= 0.99 * total as f64,
         "coarse-to-fine agreed on {agree} of {total}"
     );
-    // The ≥ 100× goal is for a cascade-86, 512-sample frame (`metamoran bench search`: 1316×);
-    // the 8-channel, 256-sample board here has less to save (brute force scales with C·N).
-    assert!(worst_ratio >= 50.0, "MAC ratio {worst_ratio}");
+    // The 8-channel, 256-sample board here has less to save than the cascade (brute force
+    // scales with C·N): 345× at worst on these seeds (issue #18: the bound was a loose 50×).
+    assert!(worst_ratio >= 300.0, "MAC ratio {worst_ratio}");
+}
+
+/// `metamoran bench search`'s figure in the README (cascade-86, 512 samples: 1714× fewer MACs
+/// than the brute force, the same depth). MAC counts are exact, so the bound is tight.
+#[test]
+fn the_cascade_search_costs_what_the_readme_says() {
+    let r = metamoran::bench::search::run().unwrap();
+    println!("{r}");
+    assert!(
+        (1650.0..1800.0).contains(&r.mac_ratio),
+        "MAC ratio {} (README: 1714×)",
+        r.mac_ratio
+    );
+    assert!(
+        (r.depths_m.0 - r.depths_m.1).abs() < 0.01,
+        "{:?}",
+        r.depths_m
+    );
 }
 
 #[test]
@@ -126,11 +144,22 @@ fn finds_moving_cars_to_300_m() {
         far.len()
     );
     assert!(!far.is_empty(), "the seed drew no car beyond 200 m");
+    // Measured on this seed: 8 of 10 cars within 1 m, 4 of 4 beyond 200 m, median error of the
+    // detected ones near the README's 0.21 m (issue #18: the bounds were half of that).
     assert!(
-        good_far * 2 >= far.len(),
-        "most far cars must be found within 1 m"
+        good_far as f64 >= 0.75 * far.len() as f64,
+        "far cars within 1 m: {good_far}/{}",
+        far.len()
     );
-    assert!(good_all as f64 >= 0.7 * cars.len() as f64);
+    assert!(good_all as f64 >= 0.8 * cars.len() as f64);
+    let mut errors: Vec<f64> = cars
+        .iter()
+        .filter_map(|s| s.error_m.map(f64::abs))
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    let median = errors[errors.len() / 2];
+    println!("median |error| of detected cars {median:.3} m");
+    assert!(median <= 0.3, "median {median}");
 }
 
 /// Issue #17 on fresh seeds of every preset and both radars: what the trust test calls detected

@@ -284,6 +284,50 @@ fn replays_loss_and_reordering_are_counted() {
     assert_eq!(rx.stats().lost, 1 + 79);
 }
 
+/// The window's edges, exactly (issue #18: `behind >= WINDOW` → `behind > WINDOW` and a
+/// 16-frame window both survived the tests): a counter 63 behind the highest is still taken
+/// once, 64 behind is stale, and a window of 64 remembers each of its 64 counters.
+#[test]
+fn the_replay_window_is_exactly_64_counters() {
+    use metamoran_dsp::wire::receiver::WINDOW;
+    assert_eq!(WINDOW, 64);
+    let (mut tx, mut rx) = link(Stream::Uplink);
+    let frames: Vec<Vec<u8>> = (1..=200).map(|i| encode(&mut tx, &result(i, 0))).collect();
+    // Deliver 100 first: everything from 37 (63 behind) up is in the window.
+    assert!(receive::<Uplink>(&mut rx, &frames[99])[0].is_ok());
+    for counter in (37..100).rev() {
+        let got = receive::<Uplink>(&mut rx, &frames[counter as usize - 1]);
+        assert!(
+            got[0].is_ok(),
+            "counter {counter} ({} behind): {got:?}",
+            100 - counter
+        );
+    }
+    assert_eq!(
+        receive::<Uplink>(&mut rx, &frames[35])[0],
+        Err(LinkError::Stale(36)),
+        "64 behind is outside the window"
+    );
+    // Every one of the 64 is now remembered: each replays.
+    for counter in 37..=100 {
+        assert_eq!(
+            receive::<Uplink>(&mut rx, &frames[counter as usize - 1])[0],
+            Err(LinkError::Replay(counter))
+        );
+    }
+    // Advancing to 164 puts 100 exactly 64 behind (stale); 163, skipped, is taken late.
+    assert!(receive::<Uplink>(&mut rx, &frames[163])[0].is_ok());
+    assert_eq!(
+        receive::<Uplink>(&mut rx, &frames[99])[0],
+        Err(LinkError::Stale(100))
+    );
+    assert!(
+        receive::<Uplink>(&mut rx, &frames[162])[0].is_ok(),
+        "163 is 1 behind 164, unseen"
+    );
+    assert_eq!(rx.stats().lost, 164 - 1 - 64 - 1);
+}
+
 #[test]
 fn overlong_frames_are_dropped_whole_and_the_stream_recovers() {
     let (mut tx, mut rx) = link(Stream::Uplink);
