@@ -141,8 +141,7 @@ fn qemu_edge_logs_through_defmt() {
     let log = log.expect("the QEMU module reports when it stops");
     // The stack must fit beside the static RAM in the module's 512 KiB (README, "Budgets"), and
     // the gauge must see the pipeline's real depth (tens of KiB), not an idle loop's.
-    let statics =
-        firmware::bench_scene::ARENA_WORDS * 4 + std::mem::size_of::<firmware::module::Scratch>();
+    let statics = firmware::bench_scene::ARENA_WORDS * 4 + size_of::<firmware::module::Scratch>();
     let stack = log.health.stack_bytes as usize;
     assert!(
         stack + statics <= 512 * 1024 && stack >= 32 * 1024,
