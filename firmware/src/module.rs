@@ -260,6 +260,11 @@ where
         self.sender.is_some()
     }
 
+    /// The link (host tests and the fuzz target feed and read a mock one).
+    pub fn link_mut(&mut self) -> &mut L {
+        &mut self.link
+    }
+
     /// The hardware back (host tests inspect the mock link).
     pub fn release(self) -> (C, L, K) {
         (self.capture, self.link, self.clock)

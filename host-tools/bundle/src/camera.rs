@@ -1,10 +1,10 @@
 //! Camera products of one frame: instance mask, monocular depth, instance classes.
 
-use crate::error::{InputError, read_json};
+use crate::error::{InputError, parse_json, read};
 use crate::limits::{MAX_PNG_BYTES, open_regular};
 use serde::{Deserialize, Serialize};
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader, Seek};
 use std::path::{Path, PathBuf};
 
 /// Classes whose depth the method estimates.
@@ -105,7 +105,15 @@ impl CameraPaths {
 /// # Errors
 /// [`InputError`] naming the file and field.
 pub fn read_instances(path: &Path) -> Result<Vec<Instance>, InputError> {
-    let file: InstancesFile = read_json(path, crate::limits::MAX_INSTANCES_BYTES)?;
+    parse_instances(path, &read(path, crate::limits::MAX_INSTANCES_BYTES)?)
+}
+
+/// [`read_instances`] on the bytes of `path` already read.
+///
+/// # Errors
+/// [`InputError`] naming the file and field.
+pub fn parse_instances(path: &Path, bytes: &[u8]) -> Result<Vec<Instance>, InputError> {
+    let file: InstancesFile = parse_json(path, bytes)?;
     let mut seen = std::collections::BTreeSet::new();
     for (i, inst) in file.instances.iter().enumerate() {
         if inst.id == 0 {
@@ -148,19 +156,28 @@ pub(super) type PngReader = png::Reader<BufReader<File>>;
 /// [`InputError`] naming the file: not a bounded regular file, or not a PNG.
 pub(super) fn open_png(path: &Path) -> Result<PngReader, InputError> {
     let (file, _) = open_regular(path, MAX_PNG_BYTES)?;
+    png_reader(path, BufReader::new(file))
+}
+
+/// Reads the header of the PNG in `r` (the contents of `path`), without transformations.
+fn png_reader<R: BufRead + Seek>(path: &Path, r: R) -> Result<png::Reader<R>, InputError> {
     // The decoder's own allocations: a row or two and the chunk buffers; the image goes into
     // the caller's buffer, whose size the `[camera]` table bounds.
     let limits = png::Limits { bytes: 64 << 20 };
-    let mut decoder = png::Decoder::new_with_limits(BufReader::new(file), limits);
+    let mut decoder = png::Decoder::new_with_limits(r, limits);
     decoder.set_transformations(png::Transformations::IDENTITY);
     decoder
         .read_info()
         .map_err(|e| InputError::file(path, format!("not a readable PNG ({e})")))
 }
 
-/// Opens the 16-bit grayscale PNG `path` and checks its header against the expected size.
-fn check_png16(path: &Path, width: u32, height: u32) -> Result<PngReader, InputError> {
-    let reader = open_png(path)?;
+/// Checks that `reader` (of `path`) is a 16-bit grayscale PNG of the expected size.
+fn check_png16<R: BufRead + Seek>(
+    path: &Path,
+    reader: png::Reader<R>,
+    width: u32,
+    height: u32,
+) -> Result<png::Reader<R>, InputError> {
     let info = reader.info();
     if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Sixteen {
         return Err(InputError::file(
@@ -202,7 +219,7 @@ pub(super) fn check_size(
 /// # Errors
 /// [`InputError`] naming the file.
 pub fn check_png16_header(path: &Path, width: u32, height: u32) -> Result<(), InputError> {
-    check_png16(path, width, height).map(|_| ())
+    check_png16(path, open_png(path)?, width, height).map(|_| ())
 }
 
 /// Decodes a 16-bit grayscale PNG of the given size into row-major values.
@@ -210,7 +227,31 @@ pub fn check_png16_header(path: &Path, width: u32, height: u32) -> Result<(), In
 /// # Errors
 /// [`InputError`] naming the file.
 pub fn read_png16(path: &Path, width: u32, height: u32) -> Result<Vec<u16>, InputError> {
-    let mut reader = check_png16(path, width, height)?;
+    decode_png16(path, open_png(path)?, width, height)
+}
+
+/// [`read_png16`] on PNG bytes already in memory (`path` names them in errors).
+///
+/// # Errors
+/// [`InputError`] naming `path`.
+pub fn parse_png16(
+    path: &Path,
+    bytes: &[u8],
+    width: u32,
+    height: u32,
+) -> Result<Vec<u16>, InputError> {
+    let reader = png_reader(path, std::io::Cursor::new(bytes))?;
+    decode_png16(path, reader, width, height)
+}
+
+/// Decodes the 16-bit grayscale PNG `reader` of the given size.
+fn decode_png16<R: BufRead + Seek>(
+    path: &Path,
+    reader: png::Reader<R>,
+    width: u32,
+    height: u32,
+) -> Result<Vec<u16>, InputError> {
+    let mut reader = check_png16(path, reader, width, height)?;
     let mut buf = vec![0u8; width as usize * height as usize * 2];
     reader
         .next_frame(&mut buf)

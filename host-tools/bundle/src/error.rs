@@ -109,8 +109,15 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, InputError> {
 /// Reads and deserializes a JSON file of at most `limit` bytes; a type error names the path of
 /// the failing field (e.g. `frames[0].objects[2].depth_m`).
 pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path, limit: u64) -> Result<T, InputError> {
-    let bytes = read(path, limit)?;
-    let de = &mut serde_json::Deserializer::from_slice(&bytes);
+    parse_json(path, &read(path, limit)?)
+}
+
+/// Deserializes JSON `bytes` (the contents of `path`); a type error names the failing field.
+pub fn parse_json<T: serde::de::DeserializeOwned>(
+    path: &Path,
+    bytes: &[u8],
+) -> Result<T, InputError> {
+    let de = &mut serde_json::Deserializer::from_slice(bytes);
     serde_path_to_error::deserialize(de).map_err(|e| {
         let field = e.path().to_string();
         let inner = e.into_inner();

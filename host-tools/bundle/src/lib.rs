@@ -25,8 +25,8 @@ mod scene;
 mod truth;
 
 pub use camera::{
-    CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, read_instances,
-    read_png16,
+    CLUTTER_CLASSES, CameraFrame, CameraPaths, Instance, OBJECTS_OF_INTEREST, parse_instances,
+    parse_png16, read_instances, read_png16,
 };
 pub use camera_models::{CameraModels, ImageProducts};
 pub use radar_file::RadarFile;

@@ -77,7 +77,16 @@ impl Scene {
     /// # Errors
     /// [`InputError`] naming the first bad field.
     pub fn read(path: &Path) -> Result<Self, InputError> {
-        let table = parse_toml(path, &read_text(path, crate::limits::MAX_TOML_BYTES)?)?;
+        Self::parse(path, &read_text(path, crate::limits::MAX_TOML_BYTES)?)
+    }
+
+    /// [`Scene::read`] on the text of `path` already read (`adc_file` is resolved against
+    /// `path`'s folder, which is not touched).
+    ///
+    /// # Errors
+    /// [`InputError`] naming the first bad field.
+    pub fn parse(path: &Path, text: &str) -> Result<Self, InputError> {
+        let table = parse_toml(path, text)?;
         let root = Fields::root(path, &table);
         root.only(&["format", "name", "radar", "camera"])?;
         let format = root.string("format")?;
