@@ -9,7 +9,7 @@
 #[path = "../tests/soak/rig.rs"]
 mod rig;
 
-use rig::{Faults, peak_rss_kib, rss_kib, run};
+use rig::{Faults, run, status_kib};
 use std::time::Instant;
 
 fn main() {
@@ -30,11 +30,11 @@ fn main() {
     let t = Instant::now();
     let r = run(frames, faults, 2, Some(&clean.results), |done| {
         if done == 1000 {
-            rss_at_1000 = rss_kib();
+            rss_at_1000 = status_kib("VmRSS:");
         }
     });
     let faulty_s = t.elapsed().as_secs_f64();
-    let rss_end = rss_kib();
+    let rss_end = status_kib("VmRSS:");
     println!("soak: {frames} frames, 1 % loss / reorder / corruption each way");
     println!(
         "  clean line: {:.0} frames/s; faulty line: {:.0} frames/s ({:.2}× the clean rate)",
@@ -53,7 +53,7 @@ fn main() {
     );
     println!(
         "  memory: RSS {rss_at_1000} KiB at 1,000 frames, {rss_end} KiB at the end; peak {} KiB",
-        peak_rss_kib()
+        status_kib("VmHWM:")
     );
     println!("  host link: {:?}", r.host_link);
     println!("  module: {:?}", r.module);

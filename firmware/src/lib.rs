@@ -7,6 +7,8 @@
 //! * [`module`]: the module's loop (link → hints, capture → pipeline → results), generic over
 //!   the hardware traits of [`capture`], [`clock`] and `embedded-io`;
 //! * [`provisioned`]: the device key built into the image;
+//! * `host_mock` (feature `host-mock`): a byte-queue serial line and a seeded nonce source
+//!   for driving the module on a host;
 //! * [`uart`]: the CMSDK UART driver of the QEMU board's link;
 //! * [`log`]: the event log (`defmt` on the target);
 //! * `board` (embedded targets only): the QEMU mps2-an500 timer, semihosting exit, fault and
@@ -19,6 +21,8 @@ pub mod bench_scene;
 pub mod board;
 pub mod capture;
 pub mod clock;
+#[cfg(any(test, feature = "host-mock"))]
+pub mod host_mock;
 pub mod log;
 pub mod module;
 pub mod provisioned;

@@ -543,50 +543,10 @@ mod tests {
     use crate::bench_scene;
     use crate::capture::SliceCapture;
     use crate::clock::StepClock;
+    use crate::host_mock::{Line as MockLink, SeededNonces as TestRng};
     use metamoran_dsp::wire::{DEV_KEY, Fault, Health, HostLink, Key, LinkError};
-    use std::collections::VecDeque;
     use std::vec;
     use std::vec::Vec as StdVec;
-
-    /// A link whose receive side the test fills and whose send side it reads.
-    #[derive(Default)]
-    struct MockLink {
-        rx: VecDeque<u8>,
-        tx: StdVec<u8>,
-        refuse: bool,
-    }
-
-    impl embedded_io::ErrorType for MockLink {
-        type Error = embedded_io::ErrorKind;
-    }
-    impl ReadReady for MockLink {
-        fn read_ready(&mut self) -> Result<bool, Self::Error> {
-            Ok(!self.rx.is_empty())
-        }
-    }
-    impl Read for MockLink {
-        fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
-            match (self.rx.pop_front(), buf.first_mut()) {
-                (Some(b), Some(out)) => {
-                    *out = b;
-                    Ok(1)
-                }
-                _ => Ok(0),
-            }
-        }
-    }
-    impl Write for MockLink {
-        fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
-            if self.refuse {
-                return Err(embedded_io::ErrorKind::Other);
-            }
-            self.tx.extend_from_slice(buf);
-            Ok(buf.len())
-        }
-        fn flush(&mut self) -> Result<(), Self::Error> {
-            Ok(())
-        }
-    }
 
     /// The budget scene's frame as the radar board sends it (DCA1000 IIQQ bytes), `frames` times.
     fn capture(frames: usize) -> StdVec<u8> {
@@ -605,33 +565,6 @@ mod tests {
         }
         one.repeat(frames)
     }
-
-    /// A deterministic nonce source (SplitMix64 from `seed`): each "boot" of a test module
-    /// gets another seed, as a TRNG would give another nonce.
-    struct TestRng(u64);
-
-    impl rand_core::TryRngCore for TestRng {
-        type Error = core::convert::Infallible;
-        fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
-            self.try_next_u64().map(|v| v as u32)
-        }
-        fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            Ok(z ^ (z >> 31))
-        }
-        fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), Self::Error> {
-            for chunk in dest.chunks_mut(8) {
-                let v = self.try_next_u64()?.to_le_bytes();
-                chunk.copy_from_slice(&v[..chunk.len()]);
-            }
-            Ok(())
-        }
-    }
-
-    impl TryCryptoRng for TestRng {}
 
     type TestModule<'a> = Module<'a, SliceCapture<'a>, MockLink, StepClock, TestRng>;
 

@@ -273,28 +273,15 @@ fn frame_sum_workload() -> Outcome {
 /// depth search) on a synthetic 2 TX × 4 RX, 64-sample frame: a contour object at bin 20.3 and a
 /// strong reflector at bin 9.6, 35° away.
 fn search_workload() -> Outcome {
-    use metamoran_dsp::config::RadarConfig;
     use metamoran_dsp::pipeline::{Edge, ObjectHint};
     use metamoran_dsp::search::Contour;
-    const N: usize = 64;
+    const N: usize = crate::workload::TWO_REFLECTOR_N;
     let failed = |hash| Outcome {
         name: "search_sic",
         exponent: u32::MAX,
         hash,
     };
-    let config = RadarConfig {
-        start_frequency_hz: 77.0e9,
-        slope_hz_per_s: 2.342e14,
-        sample_rate_hz: 10.0e6,
-        adc_samples: N as u16,
-        chirp_period_s: 10.0e-6,
-        chirps_per_tx: 2,
-        frames: 1,
-        frame_period_s: 0.1,
-        tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap_or_default(),
-        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap_or_default(),
-        tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap_or_default(),
-    };
+    let config = crate::workload::two_reflector_config();
     let Ok(edge) = Edge::new(&config) else {
         return failed(0);
     };
@@ -304,18 +291,8 @@ fn search_workload() -> Outcome {
     };
     for chirp_no in 0..4 {
         for rx in 0..4 {
-            let p = config
-                .channel_position((chirp_no % 2) * 4 + rx)
-                .unwrap_or(0);
             let mut chirp = [CQ15::default(); N];
-            for (n, z) in chirp.iter_mut().enumerate() {
-                let turns = |bin: f64, extra: f64| {
-                    metamoran_dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
-                };
-                let a = metamoran_dsp::trig::expj_neg(turns(20.3, 0.0));
-                let b = metamoran_dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
-                *z = CQ15::from_raw(a.re.0 / 64 + b.re.0 / 4, a.im.0 / 64 + b.im.0 / 4);
-            }
+            crate::workload::two_reflector_row(chirp_no, rx, &[CQ15::default(); N], &mut chirp);
             if edge.push(&mut frame, chirp_no, rx, &chirp).is_err() {
                 return failed(2);
             }

@@ -63,3 +63,43 @@ impl Fnv {
         self.bytes(&v.to_le_bytes());
     }
 }
+
+/// Samples per chirp of the two-reflector frame.
+pub const TWO_REFLECTOR_N: usize = 64;
+
+/// The radar of the two-reflector frame: 2 TX × 4 RX (8 elements), 64 samples, 2 loops.
+pub fn two_reflector_config() -> metamoran_dsp::config::RadarConfig {
+    metamoran_dsp::config::RadarConfig {
+        start_frequency_hz: 77.0e9,
+        slope_hz_per_s: 2.342e14,
+        sample_rate_hz: 10.0e6,
+        adc_samples: TWO_REFLECTOR_N as u16,
+        chirp_period_s: 10.0e-6,
+        chirps_per_tx: 2,
+        frames: 1,
+        frame_period_s: 0.1,
+        tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap_or_default(),
+        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap_or_default(),
+        tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap_or_default(),
+    }
+}
+
+/// Row (`chirp`, `rx`) of the two-reflector frame plus `noise` (same length as `out`): a weak
+/// contour object at range bin 20.3 straight ahead and a strong reflector at bin 9.6, 35° away
+/// (a phase step of 0.3 turn per element).
+pub fn two_reflector_row(chirp: usize, rx: usize, noise: &[CQ15], out: &mut [CQ15]) {
+    let config = two_reflector_config();
+    let p = config.channel_position((chirp % 2) * 4 + rx).unwrap_or(0);
+    let n_total = out.len() as f64;
+    for (n, (z, e)) in out.iter_mut().zip(noise).enumerate() {
+        let turns = |bin: f64, extra: f64| {
+            metamoran_dsp::trig::Phase::from_turns(-(bin * n as f64) / n_total - extra)
+        };
+        let a = metamoran_dsp::trig::expj_neg(turns(20.3, 0.0));
+        let b = metamoran_dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
+        *z = CQ15::from_raw(
+            a.re.0 / 64 + b.re.0 / 4 + e.re.0,
+            a.im.0 / 64 + b.im.0 / 4 + e.im.0,
+        );
+    }
+}

@@ -6,77 +6,20 @@
 #![no_main]
 use firmware::capture::SliceCapture;
 use firmware::clock::StepClock;
+use firmware::host_mock::{Line, SeededNonces};
 use firmware::module::{Module, Poll, Scratch};
 use libfuzzer_sys::fuzz_target;
 use metamoran_dsp::wire::{
     DEV_KEY, Deframer, DeviceKey, Downlink, HandshakeUp, HostLink, MAX_WIRE, Opened,
 };
-use std::collections::VecDeque;
 use std::sync::Mutex;
-
-/// A link whose receive side the target fills and whose send side it reads.
-#[derive(Default)]
-struct Link {
-    rx: VecDeque<u8>,
-    tx: Vec<u8>,
-}
-
-impl embedded_io::ErrorType for Link {
-    type Error = embedded_io::ErrorKind;
-}
-impl embedded_io::ReadReady for Link {
-    fn read_ready(&mut self) -> Result<bool, Self::Error> {
-        Ok(!self.rx.is_empty())
-    }
-}
-impl embedded_io::Read for Link {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
-        match (self.rx.pop_front(), buf.first_mut()) {
-            (Some(b), Some(o)) => {
-                *o = b;
-                Ok(1)
-            }
-            _ => Ok(0),
-        }
-    }
-}
-impl embedded_io::Write for Link {
-    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
-        self.tx.extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> Result<(), Self::Error> {
-        Ok(())
-    }
-}
-
-/// A counter as the nonce source (the fuzzer needs determinism, not secrecy).
-struct Counter(u64);
-impl rand_core::TryRngCore for Counter {
-    type Error = core::convert::Infallible;
-    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
-        self.try_next_u64().map(|v| v as u32)
-    }
-    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
-        self.0 += 1;
-        Ok(self.0)
-    }
-    fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), Self::Error> {
-        for chunk in dest.chunks_mut(8) {
-            let v = self.try_next_u64()?.to_le_bytes();
-            chunk.copy_from_slice(&v[..chunk.len()]);
-        }
-        Ok(())
-    }
-}
-impl rand_core::TryCryptoRng for Counter {}
 
 /// The module's memory, allocated once.
 static MEMORY: Mutex<Option<(Vec<u32>, Box<Scratch>)>> = Mutex::new(None);
 /// A short capture: frames of small configurations run whole, larger ones end in a fault.
 static CAPTURE: [u8; 16 * 1024] = [0x11; 16 * 1024];
 
-fn run(m: &mut Module<'_, SliceCapture<'_>, Link, StepClock, Counter>) -> bool {
+fn run(m: &mut Module<'_, SliceCapture<'_>, Line, StepClock, SeededNonces>) -> bool {
     for _ in 0..100_000 {
         match m.poll() {
             Poll::Busy => {}
@@ -97,9 +40,9 @@ fuzz_target!(|bytes: &[u8]| {
     });
     let mut m = Module::new(
         SliceCapture::new(&CAPTURE),
-        Link::default(),
+        Line::default(),
         StepClock::new(1_000),
-        Counter(0),
+        SeededNonces(0),
         arena,
         scratch,
         DeviceKey::new(DEV_KEY),

@@ -11,8 +11,9 @@
 
 use firmware::capture::{CaptureSource, SourceError};
 use firmware::clock::StepClock;
+use firmware::host_mock::{Line, SeededNonces};
 use firmware::module::{Module, Poll, Scratch};
-use firmware::workload::noise_q15;
+use firmware::workload::{TWO_REFLECTOR_N, noise_q15, two_reflector_config, two_reflector_row};
 use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::fixed::{CQ15, Q15};
 use metamoran_dsp::pipeline::ObjectHint;
@@ -21,33 +22,25 @@ use metamoran_dsp::wire::{
     DEV_KEY, Deframer, DeviceKey, Downlink, Fault, HandshakeUp, Health, HostLink, LinkStats,
     MAX_WIRE, ObjectResult, Opened, Uplink,
 };
-use std::collections::{BTreeMap, BTreeSet, VecDeque};
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Samples per chirp of the rig's radar.
-const N: usize = 64;
+const N: usize = TWO_REFLECTOR_N;
 
 /// The rig's radar: 2 TX × 4 RX, 64 samples, 2 loops (16 rows of 256 bytes per frame).
 pub fn config() -> RadarConfig {
     RadarConfig {
-        start_frequency_hz: 77.0e9,
-        slope_hz_per_s: 2.342e14,
-        sample_rate_hz: 10.0e6,
-        adc_samples: N as u16,
-        chirp_period_s: 10.0e-6,
-        chirps_per_tx: 2,
         frames: 0,
-        frame_period_s: 0.1,
-        tx_positions: heapless::Vec::from_slice(&[0, 4]).unwrap(),
-        rx_positions: heapless::Vec::from_slice(&[0, 1, 2, 3]).unwrap(),
-        tx_order: heapless::Vec::from_slice(&[0, 1]).unwrap(),
+        ..two_reflector_config()
     }
 }
 
 /// Rows of one frame.
 const ROWS: u64 = 16;
 
-/// An endless capture: row r of the stream belongs to frame r / 16; its samples depend only on
-/// (frame, row), so a frame reads the same whatever was skipped before it.
+/// An endless capture of the two-reflector frame with noise that changes every frame: row r of
+/// the stream belongs to frame r / 16, and its samples depend only on (frame, row), so a frame
+/// reads the same whatever was skipped before it.
 struct Synthetic {
     row: u64,
 }
@@ -56,25 +49,10 @@ impl CaptureSource for Synthetic {
     fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), SourceError> {
         let (frame, row) = (self.row / ROWS, self.row % ROWS);
         self.row += 1;
-        let config = config();
-        let (chirp_no, rx) = (row as usize / 4, row as usize % 4);
-        let p = config
-            .channel_position((chirp_no % 2) * 4 + rx)
-            .unwrap_or(0);
         let mut noise = [CQ15::default(); N];
         noise_q15((frame * 131 + row) as u32, Q15(300), &mut noise);
         let mut chirp = [CQ15::default(); N];
-        for (n, z) in chirp.iter_mut().enumerate() {
-            let turns = |bin: f64, extra: f64| {
-                metamoran_dsp::trig::Phase::from_turns(-(bin * n as f64) / N as f64 - extra)
-            };
-            let a = metamoran_dsp::trig::expj_neg(turns(20.3, 0.0));
-            let b = metamoran_dsp::trig::expj_neg(turns(9.6, p as f64 * 0.3));
-            *z = CQ15::from_raw(
-                a.re.0 / 64 + b.re.0 / 4 + noise[n].re.0,
-                a.im.0 / 64 + b.im.0 / 4 + noise[n].im.0,
-            );
-        }
+        two_reflector_row(row as usize / 4, row as usize % 4, &noise, &mut chirp);
         // DCA1000 order: I[2k], I[2k+1], Q[2k], Q[2k+1].
         let mut out = buf.chunks_exact_mut(2);
         for pair in chirp.chunks_exact(2) {
@@ -88,63 +66,6 @@ impl CaptureSource for Synthetic {
         Ok(())
     }
 }
-
-/// Both directions of the serial line.
-#[derive(Default)]
-struct Line {
-    rx: VecDeque<u8>,
-    tx: Vec<u8>,
-}
-
-impl embedded_io::ErrorType for Line {
-    type Error = embedded_io::ErrorKind;
-}
-impl embedded_io::ReadReady for Line {
-    fn read_ready(&mut self) -> Result<bool, Self::Error> {
-        Ok(!self.rx.is_empty())
-    }
-}
-impl embedded_io::Read for Line {
-    fn read(&mut self, buf: &mut [u8]) -> Result<usize, Self::Error> {
-        match (self.rx.pop_front(), buf.first_mut()) {
-            (Some(b), Some(o)) => {
-                *o = b;
-                Ok(1)
-            }
-            _ => Ok(0),
-        }
-    }
-}
-impl embedded_io::Write for Line {
-    fn write(&mut self, buf: &[u8]) -> Result<usize, Self::Error> {
-        self.tx.extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> Result<(), Self::Error> {
-        Ok(())
-    }
-}
-
-/// A counter as the module's nonce source.
-struct Counter(u64);
-impl rand_core::TryRngCore for Counter {
-    type Error = core::convert::Infallible;
-    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
-        self.try_next_u64().map(|v| v as u32)
-    }
-    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
-        self.0 += 1;
-        Ok(self.0)
-    }
-    fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), Self::Error> {
-        for c in dest.chunks_mut(8) {
-            let v = self.try_next_u64()?.to_le_bytes();
-            c.copy_from_slice(&v[..c.len()]);
-        }
-        Ok(())
-    }
-}
-impl rand_core::TryCryptoRng for Counter {}
 
 /// How the line misbehaves: each frame (message) is lost, corrupted (one byte flipped) or
 /// swapped with the next one with these probabilities, independently both ways.
@@ -264,7 +185,7 @@ pub fn run(
         Synthetic { row: 0 },
         Line::default(),
         StepClock::new(1_000),
-        Counter(seed),
+        SeededNonces(seed),
         &mut arena,
         &mut scratch,
         DeviceKey::new(DEV_KEY),
@@ -277,7 +198,7 @@ pub fn run(
         frames,
         ..SoakReport::default()
     };
-    let poll = |m: &mut Module<'_, Synthetic, Line, StepClock, Counter>| {
+    let poll = |m: &mut Module<'_, Synthetic, Line, StepClock, SeededNonces>| {
         while m.poll() == Poll::Busy {}
     };
     // Pair and configure over a clean line (the rig soaks the frames, not the setup).
@@ -385,25 +306,13 @@ pub fn run(
     report
 }
 
-/// The process's peak resident set, KiB (`VmHWM` of /proc/self/status).
-pub fn peak_rss_kib() -> u64 {
+/// A `/proc/self/status` figure in KiB (`VmHWM`: peak resident set; `VmRSS`: now).
+pub fn status_kib(key: &str) -> u64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
         .and_then(|s| {
             s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
-        })
-        .unwrap_or(0)
-}
-
-/// The process's resident set now, KiB (`VmRSS`).
-pub fn rss_kib() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmRSS:"))
+                .find(|l| l.starts_with(key))
                 .and_then(|l| l.split_whitespace().nth(1)?.parse().ok())
         })
         .unwrap_or(0)
