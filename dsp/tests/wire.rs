@@ -359,6 +359,76 @@ fn oversized_messages_are_refused_by_the_sender() {
         "a refused message must not use up a counter"
     );
     assert!(tx.encode(&Big(vec![1; MAX_PAYLOAD - 3]), &mut out).is_ok());
+    assert_eq!(tx.counter(), 1, "the first frame sent carries counter 1");
+}
+
+/// The frame size constants are their closed forms (cargo-mutants: `+` → `*` in them
+/// survived, since larger buffers pass every round trip).
+#[test]
+fn frame_sizes_are_their_closed_forms() {
+    use metamoran_dsp::wire::TAG_LEN;
+    use metamoran_dsp::wire::frame::{HEADER_LEN, MAX_RAW};
+    assert_eq!((HEADER_LEN, MAX_PAYLOAD, TAG_LEN), (6, 384, 8));
+    assert_eq!(MAX_RAW, 6 + 384 + 8);
+    // COBS adds one byte per 254 (rounded up), then the delimiter.
+    assert_eq!(MAX_WIRE, MAX_RAW + MAX_RAW.div_ceil(254) + 1);
+}
+
+/// A slice longer than any frame is an overflow; one of exactly `MAX_WIRE` bytes (longer than
+/// an encoded frame, but not by the length check) is malformed.
+#[test]
+fn the_receiver_bounds_frame_length_exactly() {
+    let (_, mut rx) = link(Stream::Uplink);
+    let mut at_limit = vec![1u8; MAX_WIRE];
+    assert_eq!(rx.open::<Uplink>(&mut at_limit), Err(LinkError::Malformed));
+    let mut over = vec![1u8; MAX_WIRE + 1];
+    assert_eq!(rx.open::<Uplink>(&mut over), Err(LinkError::Overflow));
+    assert_eq!((rx.stats().malformed, rx.stats().overflow), (1, 1));
+}
+
+/// What users read: every error says what happened and what to do, and no key is ever
+/// printed by `Debug`.
+#[test]
+fn errors_say_what_to_do_and_keys_stay_secret() {
+    use metamoran_dsp::wire::{DeviceKey, EncodeError, KeyError};
+    let texts = [
+        (KeyError::Hex.to_string(), "64 hexadecimal digits"),
+        (EncodeError::TooLarge.to_string(), "send fewer items"),
+        (EncodeError::Buffer.to_string(), "must hold"),
+        (EncodeError::CounterExhausted.to_string(), "new session"),
+        (EncodeError::NoSession.to_string(), "pair"),
+        (LinkError::Malformed.to_string(), "baud rate"),
+        (LinkError::Overflow.to_string(), "protocol"),
+        (LinkError::Version(9).to_string(), "version 9"),
+        (LinkError::Tag.to_string(), "same link key"),
+        (LinkError::Replay(7).to_string(), "counter 7"),
+        (
+            LinkError::Stale(5).to_string(),
+            "older than the replay window",
+        ),
+        (LinkError::Payload.to_string(), "protocol differs"),
+    ];
+    for (text, needle) in texts {
+        assert!(text.contains(needle), "{text:?} lacks {needle:?}");
+    }
+    assert_eq!(format!("{:?}", Key::new(&KEY)), "Key(..)");
+    assert_eq!(format!("{:?}", DeviceKey::new(KEY)), "DeviceKey(..)");
+}
+
+/// The host end counts what it rejects, including what the deframer rejected before it.
+#[test]
+fn the_host_end_counts_rejections() {
+    use metamoran_dsp::wire::{DeviceKey, HostLink};
+    let mut host = HostLink::new(DeviceKey::new(KEY));
+    let mut junk = [0x13u8, 0x37, 0x01];
+    assert!(host.open(&mut junk).is_err());
+    host.count(LinkError::Overflow);
+    let s = host.stats();
+    assert_eq!(
+        (s.malformed + s.bad_tag, s.overflow, s.accepted),
+        (1, 1, 0),
+        "{s:?}"
+    );
 }
 
 /// xorshift64*: a fast deterministic generator for the fuzz run.

@@ -105,12 +105,6 @@ impl Sender {
         }
     }
 
-    /// Starts a new session: frames are tagged with `key` and counted from 1 again.
-    pub fn install(&mut self, key: Key) {
-        self.key = key;
-        self.counter = 0;
-    }
-
     /// Counter of the last frame sent (0: none yet).
     pub fn counter(&self) -> u32 {
         self.counter

@@ -70,6 +70,7 @@ impl DeviceKey {
     }
 
     /// The key written as [`KEY_LEN`] × 2 hexadecimal digits (surrounding whitespace ignored).
+    /// (`(high << 4) | low` and `^` agree: cargo-mutants' equivalent mutant here.)
     ///
     /// # Errors
     /// [`KeyError::Hex`] for any other text.
@@ -160,6 +161,33 @@ mod tests {
     use super::*;
     use hmac::{Hmac, Mac};
 
+    /// A nonce is the source's bytes, in order.
+    #[test]
+    fn nonces_come_from_the_source() {
+        struct Counting(u8);
+        impl rand_core::TryRngCore for Counting {
+            type Error = core::convert::Infallible;
+            fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
+                unreachable!()
+            }
+            fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+                unreachable!()
+            }
+            fn try_fill_bytes(&mut self, dest: &mut [u8]) -> Result<(), Self::Error> {
+                for b in dest {
+                    self.0 += 1;
+                    *b = self.0;
+                }
+                Ok(())
+            }
+        }
+        impl rand_core::TryCryptoRng for Counting {}
+        let mut source = Counting(0);
+        let first = fresh_nonce(&mut source).unwrap();
+        assert_eq!(first, core::array::from_fn(|i| i as u8 + 1));
+        assert_ne!(fresh_nonce(&mut source).unwrap(), first);
+    }
+
     /// RFC 5869 test case 1: the HKDF this module uses, against the RFC's output.
     #[test]
     fn hkdf_matches_rfc_5869() {
@@ -215,6 +243,17 @@ mod tests {
     fn hex_keys() {
         let hex = "00112233445566778899aabbccddeeff00112233445566778899AABBCCDDEEFF";
         assert_eq!(DeviceKey::from_hex(hex).unwrap().0[1], 0x11);
+        // Every digit, both cases, at both nibbles.
+        let all = "0123456789abcdefABCDEF9876543210fedcbaFEDCBA0f1e2d3c4b5a69788796";
+        let expected = [
+            0x01, 0x23, 0x45, 0x67, 0x89, 0xab, 0xcd, 0xef, 0xab, 0xcd, 0xef, 0x98, 0x76, 0x54,
+            0x32, 0x10, 0xfe, 0xdc, 0xba, 0xfe, 0xdc, 0xba, 0x0f, 0x1e, 0x2d, 0x3c, 0x4b, 0x5a,
+            0x69, 0x78, 0x87, 0x96,
+        ];
+        assert_eq!(
+            DeviceKey::from_hex(&std::format!(" {all}\n")).unwrap().0,
+            expected
+        );
         assert_eq!(DeviceKey::from_hex(&hex[1..]).unwrap_err(), KeyError::Hex);
         assert_eq!(
             DeviceKey::from_hex(&hex.replace('0', "g")).unwrap_err(),
