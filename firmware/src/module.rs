@@ -533,7 +533,8 @@ fn fault_name(fault: Fault) -> &'static str {
 
 /// Whether `config` fits the module's scratch.
 fn fits(config: &metamoran_dsp::config::RadarConfig) -> bool {
-    (config.adc_samples as usize) <= MAX_SAMPLES && config.range_fft_len() <= MAX_SAMPLES
+    // The range FFT pads `adc_samples` up to a power of two: bounding it bounds both.
+    config.range_fft_len() <= MAX_SAMPLES
 }
 
 #[cfg(test)]
@@ -1020,5 +1021,137 @@ mod tests {
         assert_eq!(faults(&up), [Fault::Sequence, Fault::Sequence]);
         let h = health(&up);
         assert_eq!((h.frames, h.capture_errors), (1, 0), "{h:?}");
+    }
+
+    /// Configurations the module cannot hold are refused, each counted once (cargo-mutants:
+    /// the arena and scratch guards could be dropped without a test noticing).
+    #[test]
+    fn configurations_beyond_the_arena_or_the_scratch_are_refused() {
+        let mut rig = Rig::new(1);
+        // An arena big enough for a 2048-bin search (a board with more RAM): the scratch
+        // bound must still refuse chirps longer than it.
+        rig.arena = vec![0; 140_000];
+        let mut host = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut host);
+        // Twice the budget frame's samples: valid, but its frame sums need twice the arena.
+        let mut big = bench_scene::config();
+        big.adc_samples = 1024;
+        big.chirp_period_s = 120e-6;
+        big.validate().unwrap();
+        assert!(Edge::new(&big).unwrap().arena_words() > 140_000);
+        // One element, one loop, 1040 samples: a small arena, but chirps longer than the
+        // scratch (1024 samples).
+        let mut long = bench_scene::config();
+        long.adc_samples = 1040;
+        long.chirps_per_tx = 1;
+        long.chirp_period_s = 300e-6;
+        long.slope_hz_per_s = 3e12;
+        long.tx_positions = Vec::from_slice(&[0]).unwrap();
+        long.rx_positions = Vec::from_slice(&[0]).unwrap();
+        long.tx_order = Vec::from_slice(&[0]).unwrap();
+        long.validate().unwrap();
+        let words = Edge::new(&long).unwrap().arena_words();
+        assert!(words <= 140_000, "{words}");
+        // Every fault reported (one per rate-limit interval).
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        for config in [big, long] {
+            send(&mut m, &host.frame(&Downlink::Config(config)));
+        }
+        send(&mut m, &host.frame(&Downlink::Health));
+        let up = host.decode(&m.link.tx);
+        assert_eq!(faults(&up), [Fault::Config, Fault::Config], "{up:?}");
+        assert_eq!(health(&up).pipeline_errors, 2);
+    }
+
+    /// Hints that do not describe the requested frame, and more hints than the module holds,
+    /// are each a counted protocol error.
+    #[test]
+    fn hint_mismatches_are_counted_once_each() {
+        let mut rig = Rig::new(1);
+        let mut host = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut host);
+        send(
+            &mut m,
+            &host.frame(&Downlink::Config(bench_scene::config())),
+        );
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        let hint = |frame| bench_scene::hints()[0].to_wire(frame);
+        // A hint of frame 5, then one of frame 0 with no Frame for 5 in between: 1 error.
+        send(&mut m, &host.frame(&Downlink::Hint(hint(5))));
+        send(&mut m, &host.frame(&Downlink::Hint(hint(0))));
+        // MAX_OBJECTS + 1 hints of frame 0 (one already sent): 1 error for the one too many.
+        for _ in 0..MAX_OBJECTS {
+            send(&mut m, &host.frame(&Downlink::Hint(hint(0))));
+        }
+        // A Frame that announces another number of hints than arrived: 1 error.
+        send(
+            &mut m,
+            &host.frame(&Downlink::Frame {
+                frame: 0,
+                objects: 3,
+                clutter: Vec::new(),
+            }),
+        );
+        send(&mut m, &host.frame(&Downlink::Health));
+        let h = health(&host.decode(&m.link.tx));
+        assert_eq!((h.protocol_errors, h.frames), (3, 1), "{h:?}");
+    }
+
+    /// The skip bound's edge on a light radar with distinct frames: exactly `MAX_SKIP` ahead is
+    /// read (and the next frame is the one after it), one more is a Sequence fault.
+    #[test]
+    fn the_skip_bound_is_exact() {
+        use crate::workload::{
+            TWO_REFLECTOR_N, noise_q15, two_reflector_config, two_reflector_row,
+        };
+        let config = two_reflector_config();
+        let frames = MAX_SKIP as usize + 2;
+        let mut bytes = StdVec::new();
+        for f in 0..frames {
+            for row in 0..16 {
+                let mut noise = [CQ15::default(); TWO_REFLECTOR_N];
+                noise_q15(
+                    (f * 16 + row) as u32,
+                    metamoran_dsp::fixed::Q15(300),
+                    &mut noise,
+                );
+                let mut chirp = [CQ15::default(); TWO_REFLECTOR_N];
+                two_reflector_row(row / 4, row % 4, &noise, &mut chirp);
+                for pair in chirp.chunks_exact(2) {
+                    for v in [pair[0].re.0, pair[1].re.0, pair[0].im.0, pair[1].im.0] {
+                        bytes.extend_from_slice(&v.to_le_bytes());
+                    }
+                }
+            }
+        }
+        let mut rig = Rig::new(0);
+        rig.bytes = bytes;
+        let mut host = Host::new();
+        let mut m = rig.module(MockLink::default(), &mut host);
+        send(&mut m, &host.frame(&Downlink::Config(config)));
+        let go = |frame| Downlink::Frame {
+            frame,
+            objects: 0,
+            clutter: Vec::new(),
+        };
+        send(&mut m, &host.frame(&go(MAX_SKIP as u32))); // skips frames 0..MAX_SKIP
+        send(&mut m, &host.frame(&go(MAX_SKIP as u32 + 1))); // the last frame, no skip
+        m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
+        send(&mut m, &host.frame(&go(2 * MAX_SKIP as u32 + 3))); // MAX_SKIP + 1 ahead
+        send(&mut m, &host.frame(&Downlink::Health));
+        let up = host.decode(&m.link.tx);
+        assert_eq!(faults(&up), [Fault::Sequence], "{up:?}");
+        let h = health(&up);
+        assert_eq!((h.frames, h.capture_errors), (2, 0), "{h:?}");
+    }
+
+    /// Health carries the stack gauge's reading.
+    #[test]
+    fn health_reports_the_stack_gauge() {
+        let mut rig = Rig::new(1);
+        let mut host = Host::new();
+        let m = rig.module(MockLink::default(), &mut host);
+        let m = m.with_stack_gauge(|| 4242);
+        assert_eq!(m.health().stack_bytes, 4242);
     }
 }
