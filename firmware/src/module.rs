@@ -683,6 +683,15 @@ mod tests {
         }
     }
 
+    /// A request for frame `frame` with no hints.
+    fn go(frame: u32) -> Downlink {
+        Downlink::Frame {
+            frame,
+            objects: 0,
+            clutter: Vec::new(),
+        }
+    }
+
     fn send(m: &mut TestModule<'_>, bytes: &[u8]) {
         m.link.rx.extend(bytes.iter().copied());
         run(m);
@@ -802,11 +811,6 @@ mod tests {
             &mut m,
             &host.frame(&Downlink::Config(bench_scene::config())),
         );
-        let go = |frame| Downlink::Frame {
-            frame,
-            objects: 0,
-            clutter: Vec::new(),
-        };
         send(&mut m, &host.frame(&go(1))); // skips frame 0
         send(&mut m, &host.frame(&go(0))); // cannot go back
         send(&mut m, &host.frame(&go(2))); // beyond the capture
@@ -1006,11 +1010,6 @@ mod tests {
             &mut m,
             &host.frame(&Downlink::Config(bench_scene::config())),
         );
-        let go = |frame| Downlink::Frame {
-            frame,
-            objects: 0,
-            clutter: Vec::new(),
-        };
         send(&mut m, &host.frame(&go(u32::MAX)));
         m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
         send(&mut m, &host.frame(&go(MAX_SKIP as u32 + 1)));
@@ -1129,11 +1128,6 @@ mod tests {
         let mut host = Host::new();
         let mut m = rig.module(MockLink::default(), &mut host);
         send(&mut m, &host.frame(&Downlink::Config(config)));
-        let go = |frame| Downlink::Frame {
-            frame,
-            objects: 0,
-            clutter: Vec::new(),
-        };
         send(&mut m, &host.frame(&go(MAX_SKIP as u32))); // skips frames 0..MAX_SKIP
         send(&mut m, &host.frame(&go(MAX_SKIP as u32 + 1))); // the last frame, no skip
         m.clock = StepClock::new(2 * REPORT_INTERVAL_US);
