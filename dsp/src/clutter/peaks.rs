@@ -86,30 +86,12 @@ pub fn scan(
     rows.fill(0);
     let mut out: Vec<Peak, MAX_PEAKS> = Vec::new();
     let last = max_bin.min(spectra.bins());
-    // Elements at positions 0, 1, 2, … (a filled aperture) are copied, not scattered.
-    let dense = positions.iter().enumerate().all(|(e, &p)| p as usize == e);
+    let filled = is_filled(positions);
     // Row of bin k lives at slot k % 3; bin 0 and bin `last` count as empty rows.
     for k in 1..=last {
         let slot = k % 3;
         if k < last {
-            let column = spectra.column(k);
-            match (
-                dense,
-                crate::fixed::words_mut(fft).split_at_mut_checked(column.len()),
-            ) {
-                (true, Some((head, tail))) => {
-                    head.copy_from_slice(column);
-                    tail.fill(0);
-                }
-                _ => {
-                    fft.fill(CQ15::default());
-                    for (&p, &w) in positions.iter().zip(column) {
-                        if let Some(slot) = fft.get_mut(p as usize) {
-                            *slot = unpack(w);
-                        }
-                    }
-                }
-            }
+            load_column(spectra.column(k), positions, filled, fft);
             let shift = crate::fft::cfft_q15_bit_reversed(fft).map_or(0, |e| 2 * e.0);
             power_row(&mut rows[slot * na..(slot + 1) * na], fft, shift);
         } else {
@@ -120,6 +102,34 @@ pub fn scan(
         }
     }
     Ok(out)
+}
+
+/// Whether elements sit at positions 0, 1, 2, … (a filled aperture). O(E).
+pub(crate) fn is_filled(positions: &[u16]) -> bool {
+    positions.iter().enumerate().all(|(e, &p)| p as usize == e)
+}
+
+/// One bin's `column` (a word per element) placed at the elements' positions in `fft`, zero
+/// elsewhere: the input of an azimuth FFT. A `filled` aperture ([`is_filled`]) is a word copy.
+/// O(len).
+pub(crate) fn load_column(column: &[u32], positions: &[u16], filled: bool, fft: &mut [CQ15]) {
+    match (
+        filled,
+        crate::fixed::words_mut(fft).split_at_mut_checked(column.len()),
+    ) {
+        (true, Some((head, tail))) => {
+            head.copy_from_slice(column);
+            tail.fill(0);
+        }
+        _ => {
+            fft.fill(CQ15::default());
+            for (&p, &w) in positions.iter().zip(column) {
+                if let Some(slot) = fft.get_mut(p as usize) {
+                    *slot = unpack(w);
+                }
+            }
+        }
+    }
 }
 
 /// `|X|² · 2^shift` of a bit-reversed azimuth spectrum, in natural order: natural bin `i` is read

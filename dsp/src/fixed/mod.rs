@@ -76,3 +76,11 @@ pub fn words_mut(buf: &mut [CQ15]) -> &mut [u32] {
     // SAFETY: as in `words`.
     unsafe { core::slice::from_raw_parts_mut(buf.as_mut_ptr().cast::<u32>(), buf.len()) }
 }
+
+/// Packed words viewed as complex Q15 values (the inverse of [`words_mut`]), e.g. an arena's
+/// free words lent as an FFT buffer. O(1).
+pub fn from_words_mut(words: &mut [u32]) -> &mut [CQ15] {
+    // SAFETY: `u32` is 4 bytes and 4-aligned, as `CQ15` (`repr(C, align(4))` of two `i16`), and
+    // every bit pattern is valid both ways.
+    unsafe { core::slice::from_raw_parts_mut(words.as_mut_ptr().cast::<CQ15>(), words.len()) }
+}

@@ -25,5 +25,6 @@
 
 mod contour;
 pub mod depth;
+pub mod survival;
 
 pub use contour::{Contour, ContourPoint, MAX_CONTOUR};
