@@ -19,11 +19,11 @@ use crate::fixed::{CQ15, Q15};
 use crate::range::{FrameSum, RangeError, Spectra};
 use crate::response::Geometry;
 use crate::search::Contour;
-use crate::search::depth::{self, SearchError, SearchResult};
+use crate::search::depth::{self, CANDIDATES, Candidate, SearchError, SearchResult};
+use crate::search::survival::{self, Survival};
 use crate::window::{self, WindowKind};
-use crate::wire::Alternative;
 use crate::wire::message::{WirePoint, m_to_mm, q15_to_sin, sin_to_q15};
-use crate::wire::{Hint, ObjectResult};
+use crate::wire::{ALTERNATIVES, Alternative, Hint, ObjectResult, Score};
 use core::fmt;
 use heapless::Vec;
 
@@ -73,6 +73,9 @@ pub struct ObjectReport {
     pub search: SearchResult,
     /// Reflectors SIC cancelled.
     pub cancelled: u8,
+    /// The survival of each refined candidate: the best, then `search.others` (a candidate that
+    /// was not measured, or not found, has the default: it survives, nothing lost).
+    pub survival: [Survival; CANDIDATES],
 }
 
 impl ObjectHint {
@@ -118,39 +121,68 @@ impl ObjectHint {
 }
 
 impl ObjectReport {
-    /// The wire form of this report for `hint`: the depth in millimetres, the direction of the
-    /// contour's closest point, the peak's height over the floor in quarter dB and the
-    /// strongest other candidate.
-    pub fn to_wire(&self, hint: &ObjectHint) -> ObjectResult {
-        let closest = hint
-            .contour
-            .points()
-            .iter()
-            .min_by(|a, b| a.rel_range_m.total_cmp(&b.rel_range_m))
-            .map_or(0.0, |p| p.sin_az);
-        let floor = self.search.floor.max(f32::MIN_POSITIVE);
-        let qdb = |peak: f32| {
-            let db = 10.0 * libm::log10f(peak.max(f32::MIN_POSITIVE) / floor);
-            libm::roundf(4.0 * db).clamp(0.0, 255.0) as u8
+    /// The search's refined candidates with their survival, survivors first (see
+    /// [`crate::search::survival`]), each group strongest first; candidates the search did not
+    /// find come last. O(1).
+    pub fn ranked(&self) -> [(Candidate, Survival); CANDIDATES] {
+        let s = &self.search;
+        let first = Candidate {
+            depth_bins: s.depth_bins,
+            depth_m: s.depth_m,
+            peak: s.peak,
         };
-        let depth_mm = m_to_mm(self.search.depth_m);
-        let runner = self.search.others[0];
-        let offset_cm = libm::roundf(100.0 * (runner.depth_m - self.search.depth_m));
-        let other = if runner.peak > 0.0 && libm::fabsf(offset_cm) <= i16::MAX as f32 {
-            Alternative {
-                offset_cm: offset_cm as i16,
-                confidence: qdb(runner.peak).max(1),
+        let mut all = [(first, self.survival[0]); CANDIDATES];
+        for (slot, (&c, &v)) in all
+            .iter_mut()
+            .skip(1)
+            .zip(s.others.iter().zip(self.survival.iter().skip(1)))
+        {
+            *slot = (c, v);
+        }
+        // 0: a survivor, 1: a candidate that does not survive, 2: none. Stable insertion sort
+        // of three (no panic path).
+        let rank = |(c, v): &(Candidate, Survival)| match (c.peak > 0.0, v.survives()) {
+            (true, true) => 0,
+            (true, false) => 1,
+            (false, _) => 2,
+        };
+        for i in 1..CANDIDATES {
+            for j in (1..=i).rev() {
+                if rank(&all[j]) < rank(&all[j - 1]) {
+                    all.swap(j - 1, j);
+                }
             }
-        } else {
-            Alternative::default()
+        }
+        all
+    }
+
+    /// The wire form of this report: the best of [`Self::ranked`]'s candidates as the depth in
+    /// millimetres, the others as offsets in centimetres, each with its [`Score`].
+    pub fn to_wire(&self) -> ObjectResult {
+        let floor = self.search.floor.max(f32::MIN_POSITIVE);
+        let score = |(c, v): &(Candidate, Survival)| {
+            Score::new(
+                10.0 * libm::log10f(c.peak.max(f32::MIN_POSITIVE) / floor),
+                v.survives(),
+            )
         };
+        let [best, rest @ ..] = self.ranked();
+        let mut others = [Alternative::default(); ALTERNATIVES];
+        for (slot, other) in others.iter_mut().zip(&rest) {
+            let offset_cm = libm::roundf(100.0 * (other.0.depth_m - best.0.depth_m));
+            if other.0.peak > 0.0 && libm::fabsf(offset_cm) <= i16::MAX as f32 {
+                *slot = Alternative {
+                    offset_cm: offset_cm as i16,
+                    // An alternative's score is never 0 (that means none).
+                    score: Score(score(other).0.max(2)),
+                };
+            }
+        }
         ObjectResult {
             instance: self.id,
-            class: self.class,
-            depth_mm,
-            sin_az: sin_to_q15(closest),
-            confidence: qdb(self.search.peak),
-            other,
+            depth_mm: m_to_mm(best.0.depth_m),
+            score: score(&best),
+            others,
         }
     }
 
@@ -512,20 +544,44 @@ impl Edge {
         reflectors: &[Reflector],
         scores: &mut [f32],
     ) -> Result<ObjectReport, PipelineError> {
+        let geo = self.geometry();
         let search = depth::coarse_to_fine(
             &scene.spectra,
-            &self.geometry(),
+            &geo,
             &self.contour(hint),
             self.bins(hint),
             reflectors,
             scene.free,
             scores,
         )?;
+        // The search's beams are done with: the survival test's FFT takes the free words.
+        let need = survival::fft_len(self.array.span()).unwrap_or(0);
+        let have = scene.free.len();
+        let fft = scene
+            .free
+            .get_mut(..need)
+            .map(crate::fixed::from_words_mut)
+            .ok_or(SearchError::Buffer {
+                what: "survival FFT (free arena words)",
+                expected: need,
+                got: have,
+            })?;
+        let mut survival = [Survival::default(); CANDIDATES];
+        let candidates = core::iter::once(search.depth_bins)
+            .zip(core::iter::once(search.peak))
+            .chain(search.others.iter().map(|c| (c.depth_bins, c.peak)));
+        for (slot, (bins, peak)) in survival.iter_mut().zip(candidates) {
+            if peak > 0.0 {
+                let bin = libm::roundf(bins).max(0.0) as usize;
+                *slot = survival::survival(&scene.spectra, &geo, bin, hint.span, fft)?;
+            }
+        }
         Ok(ObjectReport {
             id: hint.id,
             class: hint.class,
             search,
             cancelled: reflectors.len() as u8,
+            survival,
         })
     }
 

@@ -319,14 +319,17 @@ fn the_runner_up_explanation_is_reported_refined_and_distinct() {
     let reference = brute_force(&r.samples, &geo, &r.edge.contour(&hint), around).unwrap();
     let step = 1.0 / FINE_STEPS_PER_BIN as f32;
     assert!((reference.depth_bins - other.depth_bins).abs() <= step + 1e-4);
-    // The wire carries both, each with its height over the floor.
-    let wire = found.to_wire(&hint);
-    let (depth, db) = wire.other().unwrap();
+    // The wire carries both, each with its height over the floor; both twins lie inside the
+    // span, so both survive.
+    let wire = found.to_wire();
+    let (depth, score) = wire.alternatives().next().unwrap();
     assert!(
         (depth - f64::from(other.depth_m)).abs() < 0.006,
         "{depth} vs {other:?}"
     );
-    assert!(wire.confidence_db() > db && db > 0.0);
+    let db = score.over_floor_db();
+    assert!(wire.score.over_floor_db() > db && db > 0.0);
+    assert!(wire.score.survives() && score.survives(), "{wire:?}");
 }
 
 #[test]
@@ -339,4 +342,48 @@ fn the_camera_window_bounds_the_search() {
     // A window narrower than MIN_WINDOW_BINS is ignored.
     hint.window_m = (4.0, 4.5);
     assert_eq!(r.edge.bins(&hint).0, 1.0);
+}
+
+/// Issue #17's failure case: a strong reflector outside the span that SIC did not cancel (the
+/// search runs with no reflectors cancelled) puts its side lobe inside the span at its range and
+/// outscores the object. The survival test finds that the side lobe's energy comes from outside
+/// and vanishes once that direction is cancelled, so the module reports the object's depth and
+/// flags the side lobe.
+#[test]
+fn a_side_lobe_outscoring_the_object_is_reported_after_it() {
+    let mut points: Vec<(f64, f64, f64)> =
+        SHAPE.iter().map(|&(s, r)| (4.23 + r, s, 150.0)).collect();
+    // 20× an object point, 17° away, 1.7 m nearer.
+    points.push((2.5, 0.3, 3000.0));
+    let mut r = run(&points);
+    let hint = ObjectHint {
+        id: 7,
+        class: 1,
+        span: (-0.06, 0.06),
+        prior_m: 0.0,
+        window_m: (0.0, 0.0),
+        contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, rr as f32))),
+    };
+    let report = search(&mut r, &hint);
+    // The search alone is fooled: its best score is the side lobe (some contour point on the
+    // reflector's 2.5 m, so the closest point up to the contour's 0.6 m depth nearer).
+    let fooled = |d: f64| (1.85..=2.55).contains(&d);
+    assert!(fooled(f64::from(report.search.depth_m)), "{report:?}");
+    let side_lobe = report.survival[0];
+    assert!(
+        !side_lobe.survives() && (side_lobe.sin_az - 0.3).abs() < 0.03,
+        "{report:?}"
+    );
+    // The object's candidate survives and goes first on the wire, the side lobe after it.
+    let wire = report.to_wire();
+    assert!((wire.depth_m() - 4.23).abs() < 0.05, "{wire:?}");
+    assert!(wire.score.survives(), "{wire:?}");
+    let (depth, score) = wire
+        .alternatives()
+        .find(|&(d, _)| fooled(d))
+        .expect("the side lobe is still reported");
+    assert!(
+        !score.survives() && score.over_floor_db() > wire.score.over_floor_db(),
+        "{depth}"
+    );
 }

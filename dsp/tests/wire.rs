@@ -5,7 +5,7 @@ use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::pipeline::ObjectHint;
 use metamoran_dsp::search::Contour;
 use metamoran_dsp::wire::frame::MAX_PAYLOAD;
-use metamoran_dsp::wire::message::{Alternative, Clutter, MAX_CLUTTER, MAX_OBJECTS};
+use metamoran_dsp::wire::message::{Alternative, Clutter, MAX_CLUTTER, MAX_OBJECTS, Score};
 use metamoran_dsp::wire::{
     Deframer, Downlink, FrameSummary, Health, Hint, Key, LinkError, LinkStats, MAX_WIRE,
     ObjectResult, Receiver, Sender, Stream, Uplink,
@@ -67,14 +67,15 @@ fn cascade() -> RadarConfig {
 fn result(frame: u32, instance: u16) -> Uplink {
     let r = ObjectResult {
         instance,
-        class: 3,
         depth_mm: 41_250,
-        sin_az: -12_000,
-        confidence: 77,
-        other: Alternative {
-            offset_cm: -1_185,
-            confidence: 70,
-        },
+        score: Score(77),
+        others: [
+            Alternative {
+                offset_cm: -1_185,
+                score: Score(70),
+            },
+            Alternative::default(),
+        ],
     };
     Uplink::Results {
         summary: FrameSummary {
@@ -169,18 +170,17 @@ fn the_largest_downlink_messages_fit_a_frame() {
 
 #[test]
 fn a_result_takes_at_most_16_bytes_on_the_wire() {
-    // Worst case the docs promise: ids and classes at their maximum, depth just below 2 km,
-    // azimuth at its most negative.
+    // Worst case the docs promise: the id at its maximum, depth just below 2 km,
+    // both alternatives as far away as an offset goes.
+    let far = Alternative {
+        offset_cm: i16::MIN,
+        score: Score(u8::MAX),
+    };
     let r = ObjectResult {
         instance: u16::MAX,
-        class: u8::MAX,
         depth_mm: 2_097_151,
-        sin_az: -32767,
-        confidence: 255,
-        other: Alternative {
-            offset_cm: i16::MIN,
-            confidence: 255,
-        },
+        score: Score(u8::MAX),
+        others: [far, far],
     };
     let alone = postcard::to_allocvec(&r).unwrap();
     assert!(alone.len() <= 15, "{} bytes", alone.len());

@@ -450,7 +450,7 @@ where
             match edge.object(&mut scene, hint, s.scores.get_mut(..m).unwrap_or(&mut [])) {
                 Ok(report) => {
                     summary.detected += report.detected() as u8;
-                    let r = report.to_wire(hint);
+                    let r = report.to_wire();
                     // Cannot overflow: at most MAX_OBJECTS hints.
                     let _ = objects.push(r);
                 }
@@ -745,7 +745,7 @@ mod tests {
             .map(|h| {
                 let h = ObjectHint::from_wire(&h.to_wire(0));
                 let r = edge.object(&mut scene, &h, &mut scores).unwrap();
-                r.to_wire(&h)
+                r.to_wire()
             })
             .collect();
         let Uplink::Results { summary, objects } = &up[0] else {
@@ -753,7 +753,7 @@ mod tests {
         };
         assert_eq!(&objects[..], &expected[..]);
         for (i, r) in objects.iter().enumerate() {
-            assert!(r.confidence_db() > 7.5, "object {i}: {r:?}");
+            assert!(r.score.over_floor_db() > 7.5, "object {i}: {r:?}");
             assert!(
                 (r.depth_m() as f32 - bench_scene::truth_m(i)).abs() < 0.05,
                 "{r:?}"

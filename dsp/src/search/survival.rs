@@ -89,11 +89,13 @@ pub fn survival(
     }
     let filled = crate::clutter::peaks::is_filled(geo.positions);
     crate::clutter::peaks::load_column(spectra.column(bin), geo.positions, filled, fft);
-    let scale = crate::fft::cfft_q15(fft)
+    // Bit-reversed output, read through the reversed index: the module links no reorder table.
+    let scale = crate::fft::cfft_q15_bit_reversed(fft)
         .map_err(|_| SearchError::Range)?
         .scale_f32();
+    let at = |j: usize| fft.get(crate::fft::bit_reversed(j % l, l)).copied();
     // The strongest direction on the grid, refined by a parabola through its neighbours in dB.
-    let power = |j: usize| fft.get(j % l).map_or(0, |z| z.norm_sqr_raw());
+    let power = |j: usize| at(j).map_or(0, |z| z.norm_sqr_raw());
     let j = (0..l).fold(0, |best, j| if power(j) > power(best) { j } else { best });
     let db = |p: u32| 10.0 * libm::log10f(p.max(1) as f32);
     let (left, mid, right) = (db(power(j + l - 1)), db(power(j)), db(power(j + 1)));
@@ -122,7 +124,7 @@ pub fn survival(
     let last = (libm::floorf(hi / grid + 0.5) as i32).max(first);
     let (mut before, mut after) = (0.0f32, 0.0f32);
     for q in first..=last {
-        let Some(z) = fft.get(q.rem_euclid(l as i32) as usize) else {
+        let Some(z) = at(q.rem_euclid(l as i32) as usize) else {
             continue;
         };
         let x = C32::new(f32::from(z.re.0) * scale, f32::from(z.im.0) * scale);

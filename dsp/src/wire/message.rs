@@ -96,34 +96,65 @@ pub enum Downlink {
     Stop,
 }
 
-/// The depth search's runner-up for an object: another explanation of its data, as an offset
-/// from the reported depth and how far its score stands above the search floor.
+/// How well one depth candidate explains the data, in one byte: its score's height over the
+/// search floor in half dB (7 bits, 0 … 63.5 dB, clamped) and whether it survives cancelling
+/// the strongest direction outside the object's span at its range (bit 0; see
+/// `search::survival`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Score(pub u8);
+
+impl Score {
+    /// The score of a candidate standing `over_floor_db` dB above the floor (NaN and negative
+    /// values give 0), `survives` or not.
+    pub fn new(over_floor_db: f32, survives: bool) -> Self {
+        let half_db = if over_floor_db.is_nan() {
+            0.0
+        } else {
+            libm::roundf(2.0 * over_floor_db).clamp(0.0, 127.0)
+        };
+        Self((half_db as u8) << 1 | u8::from(survives))
+    }
+
+    /// Height over the search floor, dB (half-dB steps).
+    pub fn over_floor_db(self) -> f64 {
+        f64::from(self.0 >> 1) / 2.0
+    }
+
+    /// Whether the candidate survives the cancellation of the direction outside the span.
+    pub fn survives(self) -> bool {
+        self.0 & 1 == 1
+    }
+}
+
+/// Another explanation of an object's data than the reported depth: an offset from it and its
+/// [`Score`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Alternative {
     /// Its depth minus the reported depth, cm (±327 m).
     pub offset_cm: i16,
-    /// Its score over the search floor in quarter dB (0: no alternative; 1 … 255, clamped).
-    pub confidence: u8,
+    /// Its score (0: no alternative; an alternative's is at least 1).
+    pub score: Score,
 }
+
+/// Alternatives reported per object: the search's other refined candidates.
+pub const ALTERNATIVES: usize = 2;
 
 /// Uplink: the module's answer for one object, inside its frame's [`Uplink::Results`] (which
 /// carries the frame number once): at most 15 bytes on the wire for depths below 2 km.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ObjectResult {
-    /// Instance id.
+    /// Instance id (the host knows the class and span it sent in the hint).
     pub instance: u16,
-    /// Class code.
-    pub class: u8,
-    /// Depth of the object's closest point, mm.
+    /// Depth of the object's closest point, mm: the strongest candidate that survives (the
+    /// strongest of all when none does).
     pub depth_mm: u32,
-    /// `sin θ` of the closest contour point, Q15.
-    pub sin_az: i16,
-    /// The peak's height above the search floor in quarter dB (0 … 255, clamped), whether or
-    /// not it passes the module's own test (the frame's [`FrameSummary::detected`] counts those):
-    /// the host's trust test decides, with the camera's evidence.
-    pub confidence: u8,
-    /// The search's strongest other explanation (see [`Alternative`]).
-    pub other: Alternative,
+    /// Its score, whether or not it passes the module's own test (the frame's
+    /// [`FrameSummary::detected`] counts those): the host's trust test decides, with the
+    /// camera's evidence.
+    pub score: Score,
+    /// The search's other explanations, survivors first, then by score (see [`Alternative`]).
+    pub others: [Alternative; ALTERNATIVES],
 }
 
 impl ObjectResult {
@@ -132,19 +163,12 @@ impl ObjectResult {
         self.depth_mm as f64 / 1000.0
     }
 
-    /// Height of the peak over the search floor, dB.
-    pub fn confidence_db(&self) -> f64 {
-        f64::from(self.confidence) / 4.0
-    }
-
-    /// The alternative's depth (m) and height over the floor (dB), if there is one.
-    pub fn other(&self) -> Option<(f64, f64)> {
-        (self.other.confidence > 0).then(|| {
-            (
-                self.depth_m() + f64::from(self.other.offset_cm) / 100.0,
-                f64::from(self.other.confidence) / 4.0,
-            )
-        })
+    /// The alternatives there are: depth (m) and score of each.
+    pub fn alternatives(&self) -> impl Iterator<Item = (f64, Score)> + '_ {
+        self.others
+            .iter()
+            .filter(|a| a.score.0 > 0)
+            .map(|a| (self.depth_m() + f64::from(a.offset_cm) / 100.0, a.score))
     }
 }
 

@@ -87,7 +87,10 @@ impl std::fmt::Display for InspectReport {
                 .evidence
                 .candidates
                 .iter()
-                .map(|c| format!("{:.2} m {:.1} dB", c.depth_m, c.over_floor_db))
+                .map(|c| {
+                    let lobe = if c.survives { "" } else { " (side lobe)" };
+                    format!("{:.2} m {:.1} dB{lobe}", c.depth_m, c.over_floor_db)
+                })
                 .collect();
             let window = match o.evidence.height_m {
                 Some((near, far)) => format!("{near:.1}–{far:.1} m"),

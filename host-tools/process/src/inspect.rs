@@ -126,7 +126,7 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
         let before = map(scene.range_azimuth_db(&[], &sin_grid, bins)?);
         let after = map(scene.range_azimuth_db(&p.reflectors, &sin_grid, bins)?);
         let deg = |s: f32| (s as f64).asin().to_degrees();
-        let wire = report.to_wire(&p.hint);
+        let wire = report.to_wire();
         let beamwidth = crate::metamoran::beamwidth_deg(scene.edge().array());
         let evidence = crate::metamoran::evidence(&obj, Some(&wire), &[], beamwidth);
         let verdict = evidence.judge();
@@ -135,9 +135,9 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
             class: obj.class.clone(),
             span_deg: (deg(p.hint.span.0), deg(p.hint.span.1)),
             prior_m: p.hint.prior_m as f64,
-            depth_m: report.search.depth_m as f64,
+            depth_m: wire.depth_m(),
             detected: report.detected(),
-            confidence_db: wire.confidence_db(),
+            confidence_db: wire.score.over_floor_db(),
             window_m: (p.hint.window_m.0 as f64, p.hint.window_m.1 as f64),
             evidence,
             verdict,

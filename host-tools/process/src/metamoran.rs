@@ -391,25 +391,30 @@ impl MovingScene {
             &mut scores,
         )
         .ok()?;
+        // Not measured here (every candidate survives): a mover's direction is checked by
+        // `reflects_elsewhere` instead.
         let mut result = ObjectReport {
             id: hint.id,
             class: hint.class,
             search,
             cancelled: 0,
+            survival: Default::default(),
         }
-        .to_wire(hint);
+        .to_wire();
         let bin_m = self.edge.geometry().bin_m as f64;
         let elsewhere = |mm: u32| {
             let bin = (mm as f64 / 1000.0 / bin_m).round() as usize;
             self.reflects_elsewhere(focus.q, bin, hint.span)
         };
+        let depth_m = result.depth_m();
+        for other in &mut result.others {
+            let depth = depth_m + f64::from(other.offset_cm) / 100.0;
+            if other.score.0 > 0 && elsewhere((depth * 1000.0).round() as u32) {
+                *other = Default::default();
+            }
+        }
         if elsewhere(result.depth_mm) {
             result.depth_mm = 0;
-        }
-        if let Some((depth, _)) = result.other() {
-            if elsewhere((depth * 1000.0).round() as u32) {
-                result.other = Default::default();
-            }
         }
         Some(result)
     }
@@ -636,7 +641,7 @@ pub fn estimate(
     let Some(p) = prepare(scene, obj) else {
         return ObjectEstimate::missed(obj);
     };
-    let on_module = fast_search(scene, &p).ok().map(|r| r.to_wire(&p.hint));
+    let on_module = fast_search(scene, &p).ok().map(|r| r.to_wire());
     merge(
         obj,
         &p.hint,
@@ -696,6 +701,7 @@ pub fn evidence(
             .extent
             .and_then(|e| crate::trust::height_bounds_m(&obj.class, &e)),
         beamwidth_deg,
+        extent_m: crate::camera_points::depth_extent(&obj.class),
     }
 }
 
@@ -706,16 +712,14 @@ pub fn beamwidth_deg(array: &metamoran_dsp::array::VirtualArray) -> f64 {
 
 /// The candidate depths of one answer (of the Doppler path at `velocity_mps` m/s if given): its
 /// depth, then its alternatives.
-fn candidates(r: &WireResult, velocity_mps: Option<f64>) -> impl Iterator<Item = Candidate> {
-    let best = (r.depth_mm > 0).then(|| Candidate {
-        depth_m: r.depth_m(),
-        over_floor_db: r.confidence_db(),
-        velocity_mps,
-    });
-    let other = r.other().map(|(depth_m, over_floor_db)| Candidate {
-        depth_m,
-        over_floor_db,
-        velocity_mps,
-    });
-    best.into_iter().chain(other)
+fn candidates(r: &WireResult, velocity_mps: Option<f64>) -> impl Iterator<Item = Candidate> + '_ {
+    let best = (r.depth_mm > 0).then_some((r.depth_m(), r.score));
+    best.into_iter()
+        .chain(r.alternatives())
+        .map(move |(depth_m, score)| Candidate {
+            depth_m,
+            over_floor_db: score.over_floor_db(),
+            survives: score.survives(),
+            velocity_mps,
+        })
 }

@@ -18,10 +18,13 @@ use crate::camera_points::{CameraObject, VerticalExtent};
 use serde::Serialize;
 
 /// Nats of camera log-prior one dB of radar score is worth when candidates are compared.
-pub const RADAR_NATS_PER_DB: f64 = 0.1;
+pub const RADAR_NATS_PER_DB: f64 = 0.15;
 /// Nats a candidate of the Doppler path gains over a static one: a reflection that moves and
 /// survives the check against other directions is rarely clutter.
 pub const DOPPLER_NATS: f64 = 4.0;
+/// Nats a candidate that does not survive the module's survival test loses against one that
+/// does.
+pub const SIDE_LOBE_NATS: f64 = 2.0;
 /// A depth is reported as detected when its confidence reaches this probability.
 pub const DETECTION_CONFIDENCE: f64 = 0.8;
 /// ...and when it holds at least this log-odds of the candidates' softmax share (62 %): two
@@ -46,7 +49,7 @@ pub const MIN_DOPPLER_DB: f64 = 20.0;
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
 /// Logistic coefficients of the confidence: bias, then [`Features`] in order.
-pub const COEFFICIENTS: [f64; 7] = [3.0347, 0.0, 0.4431, 0.5065, 13.5330, -0.1406, -0.8079];
+pub const COEFFICIENTS: [f64; 8] = [0.3499, 0.0, 0.5068, 0.0, 0.8421, -0.0908, -0.7858, 1.3240];
 
 /// Height range of an object of `class`, m: what a mask's vertical extent is measured against.
 /// `None` for classes without one.
@@ -118,6 +121,10 @@ pub struct Candidate {
     pub depth_m: f64,
     /// Its score over the search floor, dB.
     pub over_floor_db: f64,
+    /// Whether it survives the module's cancellation of the strongest direction outside the
+    /// object's span at its range (`dsp::search::survival`): a candidate that does not is most
+    /// likely that direction's side lobe.
+    pub survives: bool,
     /// Radial velocity, m/s, for a candidate of the Doppler path (static clutter removed: a
     /// mover's reflection); `None` for the static search's.
     pub velocity_mps: Option<f64>,
@@ -135,6 +142,9 @@ pub struct Evidence {
     /// The radar's azimuth beamwidth, degrees: a wide beam holds more clutter in an object's
     /// span, so the same evidence is worth less.
     pub beamwidth_deg: f64,
+    /// How far the object reaches behind its closest point, m: candidates that far behind a
+    /// depth are its body's reflections, not another explanation.
+    pub extent_m: f64,
 }
 
 /// The chosen candidate's evidence, the inputs of the confidence.
@@ -143,7 +153,8 @@ pub struct Features {
     /// Radar score over the search floor, dB.
     pub over_floor_db: f64,
     /// Log-odds of the chosen depth against the other candidates: the softmax share of the
-    /// scores within 1 m of it over the rest, nats (capped at 8 when nothing competes).
+    /// scores from 1 m in front of it to the object's extent behind it over the rest, nats
+    /// (capped at 8 when nothing competes).
     pub margin: f64,
     /// Monocular log-prior (≤ 0).
     pub monocular: f64,
@@ -154,6 +165,8 @@ pub struct Features {
     /// How little the camera pins the range down: the log ratio of the height bounds (capped
     /// at [`VAGUE`], its value without bounds).
     pub vagueness: f64,
+    /// 1 if the candidate survives the module's survival test, else 0.
+    pub survives: f64,
 }
 
 /// The trust test's answer for one object.
@@ -203,8 +216,8 @@ impl Evidence {
         } else {
             0.0
         };
-        RADAR_NATS_PER_DB * c.over_floor_db
-            + doppler
+        let side_lobe = if c.survives { 0.0 } else { SIDE_LOBE_NATS };
+        RADAR_NATS_PER_DB * c.over_floor_db + doppler - side_lobe
             + self.monocular(c.depth_m)
             + self.height(c.depth_m)
     }
@@ -220,12 +233,14 @@ impl Evidence {
             .collect();
         let &(best, chosen) = scored.iter().max_by(|a, b| a.0.total_cmp(&b.0))?;
         // The chosen depth's share of the candidates' evidence (softmax of the scores), counting
-        // those within 1 m of it as the same answer.
+        // those from 1 m in front of it to the object's extent behind it as the same answer (the
+        // depth is the closest point: the body reflects behind it).
         let (mut same, mut all) = (0.0, 0.0);
         for &(s, c) in &scored {
             let w = (s - best).exp();
             all += w;
-            if (c.depth_m - chosen.depth_m).abs() <= 1.0 {
+            let behind = c.depth_m - chosen.depth_m;
+            if (-1.0..=self.extent_m.max(1.0)).contains(&behind) {
                 same += w;
             }
         }
@@ -243,6 +258,7 @@ impl Evidence {
             vagueness: self
                 .height_m
                 .map_or(VAGUE, |(near, far)| (far / near.max(1e-3)).ln().min(VAGUE)),
+            survives: f64::from(u8::from(chosen.survives)),
         };
         Some(Verdict {
             depth_m: chosen.depth_m,
@@ -255,14 +271,24 @@ impl Evidence {
 
 /// The logistic confidence of [`COEFFICIENTS`].
 pub fn confidence(f: &Features) -> f64 {
-    let [b, w_db, w_margin, w_mono, w_height, w_beam, w_vague] = COEFFICIENTS;
+    let [
+        b,
+        w_db,
+        w_margin,
+        w_mono,
+        w_height,
+        w_beam,
+        w_vague,
+        w_survives,
+    ] = COEFFICIENTS;
     let z = b
         + w_db * f.over_floor_db
         + w_margin * f.margin
         + w_mono * f.monocular
         + w_height * f.height
         + w_beam * f.beamwidth_deg
-        + w_vague * f.vagueness;
+        + w_vague * f.vagueness
+        + w_survives * f.survives;
     1.0 / (1.0 + (-z).exp())
 }
 
@@ -312,6 +338,7 @@ mod tests {
         Candidate {
             depth_m,
             over_floor_db,
+            survives: true,
             velocity_mps: None,
         }
     }
@@ -324,6 +351,7 @@ mod tests {
             monocular_m: Some(34.0),
             height_m,
             beamwidth_deg: 1.33,
+            extent_m: 1.5,
         }
     }
 
@@ -350,6 +378,7 @@ mod tests {
             height: 0.0,
             beamwidth_deg: 1.33,
             vagueness: 0.5,
+            survives: 1.0,
         };
         let mut last = 0.0;
         for m in [0.0, 1.0, 2.0, 4.0, 8.0] {
@@ -372,10 +401,72 @@ mod tests {
             monocular_m: Some(46.0),
             height_m: Some((35.0, 60.0)),
             beamwidth_deg: 1.33,
+            extent_m: 1.5,
         };
         let v = e.judge().unwrap();
         assert!(v.features.margin.abs() < 0.1, "{v:?}");
         assert!(!v.detected(), "{v:?}");
+    }
+
+    #[test]
+    fn a_side_lobe_loses_to_a_weaker_candidate_that_survives() {
+        // Two depths the camera cannot tell apart; the stronger one is another direction's
+        // side lobe (it does not survive the module's test).
+        let mut lobe = candidate(30.0, 35.0);
+        lobe.survives = false;
+        let e = Evidence {
+            candidates: vec![lobe, candidate(38.0, 30.0)],
+            monocular_m: Some(34.0),
+            height_m: Some((25.0, 45.0)),
+            beamwidth_deg: 14.5,
+            extent_m: 6.0,
+        };
+        let v = e.judge().unwrap();
+        // 0.15 nats/dB · 5 dB < SIDE_LOBE_NATS: the survivor wins.
+        const { assert!(RADAR_NATS_PER_DB * 5.0 < SIDE_LOBE_NATS) };
+        assert_eq!(v.depth_m, 38.0);
+        assert_eq!(v.features.survives, 1.0);
+        // The same verdict on a candidate that does not survive is less confident.
+        let f = Features {
+            survives: 0.0,
+            ..v.features
+        };
+        assert!(confidence(&f) < v.confidence);
+    }
+
+    #[test]
+    fn reflections_of_the_body_behind_the_depth_are_not_rivals() {
+        // A car's closest point at 120 m and its body 3 m behind it (a mover's Doppler
+        // candidates), a clutter candidate 40 m away.
+        let mover = |d: f64, db: f64| Candidate {
+            velocity_mps: Some(-8.0),
+            ..candidate(d, db)
+        };
+        let e = |extent_m: f64| Evidence {
+            candidates: vec![
+                mover(120.0, 45.0),
+                mover(123.0, 40.0),
+                candidate(80.0, 30.0),
+            ],
+            monocular_m: None,
+            height_m: Some((60.0, 400.0)),
+            beamwidth_deg: 1.33,
+            extent_m,
+        };
+        let car = e(6.0).judge().unwrap();
+        let point = e(0.0).judge().unwrap();
+        assert_eq!((car.depth_m, point.depth_m), (120.0, 120.0));
+        // Counted as the same answer, the body raises the chosen depth's share.
+        assert!(
+            car.features.margin > point.features.margin + 1.0,
+            "{car:?} {point:?}"
+        );
+        // A candidate in front of the chosen depth is a rival whatever the extent.
+        let front = Evidence {
+            candidates: vec![mover(120.0, 45.0), mover(116.0, 44.0)],
+            ..e(6.0)
+        };
+        assert!(front.judge().unwrap().features.margin < 1.0);
     }
 
     #[test]
@@ -385,6 +476,7 @@ mod tests {
             monocular_m: None,
             height_m: None,
             beamwidth_deg: 1.33,
+            extent_m: 1.5,
         };
         assert_eq!(e.judge(), None);
     }
