@@ -89,7 +89,17 @@ pub fn write(path: &Path, points: &[[f64; 3]]) -> Result<(), InputError> {
 /// # Errors
 /// [`InputError`] naming the file: unreadable, another layout, or truncated.
 pub fn read(path: &Path) -> Result<Vec<[f64; 3]>, InputError> {
-    let bytes = crate::error::read(path, crate::limits::MAX_TRUTH_BYTES)?;
+    parse(
+        path,
+        &crate::error::read(path, crate::limits::MAX_TRUTH_BYTES)?,
+    )
+}
+
+/// Parses the contents of a PLY written by [`write`](fn@write) (`path` names it in errors).
+///
+/// # Errors
+/// [`InputError`] naming the file: another layout, or truncated.
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<Vec<[f64; 3]>, InputError> {
     let end = b"end_header\n";
     let at = bytes
         .windows(end.len())
@@ -108,7 +118,7 @@ pub fn read(path: &Path) -> Result<Vec<[f64; 3]>, InputError> {
         .and_then(|v| v.trim().parse().ok())
         .ok_or_else(|| InputError::field(path, "element vertex", "is missing or not a count"))?;
     let body = &bytes[at + end.len()..];
-    if body.len() != n * 12 {
+    if n.checked_mul(12) != Some(body.len()) {
         return Err(InputError::field(
             path,
             "element vertex",

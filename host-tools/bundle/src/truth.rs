@@ -1,6 +1,6 @@
 //! `truth.json`: ground truth per frame (optional in a bundle).
 
-use crate::error::{InputError, read_json};
+use crate::error::{InputError, parse_json};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -64,7 +64,17 @@ impl Truth {
     /// # Errors
     /// [`InputError`] naming the file and field.
     pub fn read(path: &Path, frames: u32) -> Result<Self, InputError> {
-        let truth: Truth = read_json(path, crate::limits::MAX_TRUTH_BYTES)?;
+        let bytes = crate::error::read(path, crate::limits::MAX_TRUTH_BYTES)?;
+        Self::parse(path, &bytes, frames)
+    }
+
+    /// Parses and checks the contents of `truth.json` (`path` names it in errors) for a capture
+    /// of `frames` frames.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the file and field.
+    pub fn parse(path: &Path, bytes: &[u8], frames: u32) -> Result<Self, InputError> {
+        let truth: Truth = parse_json(path, bytes)?;
         for (i, f) in truth.frames.iter().enumerate() {
             if f.frame >= frames {
                 return Err(InputError::field(
