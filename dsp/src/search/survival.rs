@@ -95,7 +95,7 @@ pub fn survival(
         .scale_f32();
     let at = |j: usize| fft.get(crate::fft::bit_reversed(j % l, l)).copied();
     // The strongest direction on the grid, refined by a parabola through its neighbours in dB.
-    let power = |j: usize| at(j).map_or(0, |z| z.norm_sqr_raw());
+    let power = |j: usize| at(j).map_or(0, CQ15::norm_sqr_raw);
     let j = (0..l).fold(0, |best, j| if power(j) > power(best) { j } else { best });
     let db = |p: u32| 10.0 * libm::log10f(p.max(1) as f32);
     let (left, mid, right) = (db(power(j + l - 1)), db(power(j)), db(power(j + 1)));
