@@ -390,3 +390,231 @@ fn elevation_lists_are_optional_and_checked() {
         "{err}"
     );
 }
+
+// Tests that kill cargo-mutants' survivors in the reader (issue #18; README, "Mutation testing").
+
+/// The `[radar]` table of `SCENE` as a bare capture's config, without `frames`, `adc_file` and
+/// `adc_layout`.
+fn bare_config() -> String {
+    let radar = SCENE
+        .split("[radar]")
+        .nth(1)
+        .unwrap()
+        .split("[camera]")
+        .next()
+        .unwrap();
+    let lines: Vec<&str> = radar
+        .lines()
+        .filter(|l| {
+            !["frames", "adc_file", "adc_layout"]
+                .iter()
+                .any(|k| l.starts_with(k))
+        })
+        .collect();
+    format!("[radar]\n{}", lines.join("\n"))
+}
+
+#[test]
+fn a_bare_capture_takes_its_frame_count_from_the_size_or_the_config() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bin, cfg) = (tmp.path().join("c.bin"), tmp.path().join("c.toml"));
+    std::fs::write(&cfg, bare_config()).unwrap();
+    let frame = vec![7u8; PER_FRAME * 4];
+    std::fs::write(&bin, frame.repeat(3)).unwrap();
+    let f = metamoran_bundle::capture::open_bare(&bin, &cfg, IqOrder::Iiqq).unwrap();
+    assert_eq!(f.config().frames, 3);
+    // Not a whole number of frames, or empty: an error saying so.
+    for len in [3 * frame.len() - 4, 0] {
+        std::fs::write(&bin, &frame.repeat(3)[..len]).unwrap();
+        let err = metamoran_bundle::capture::open_bare(&bin, &cfg, IqOrder::Iiqq)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("c.bin") && err.contains("whole number"),
+            "{err}"
+        );
+    }
+    // A frame count given in the config is taken, not derived.
+    let given = format!("{}\nframes = 2\n", bare_config());
+    let config =
+        metamoran_bundle::capture::parse_radar_config(Path::new("c.toml"), &given).unwrap();
+    assert_eq!(config.frames, 2);
+}
+
+#[test]
+fn unknown_keys_get_the_nearest_known_one_only_when_near() {
+    let parse = |text: &str| metamoran_bundle::Scene::parse(Path::new("scene.toml"), text);
+    let with = |extra: &str| SCENE.replace("[camera]", &format!("{extra}\n[camera]"));
+    // One letter off: suggested.
+    let err = parse(&with("tx_elevaton = [0, 0]"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("did you mean `radar.tx_elevation`?"), "{err}");
+    // Five letters off an 18-letter key is within a third of it: suggested.
+    let err = parse(&with("start_frequen = 1.0")).unwrap_err().to_string();
+    assert!(
+        err.contains("did you mean `radar.start_frequency_hz`?"),
+        "{err}"
+    );
+    // Nothing near: the table's keys are listed instead.
+    let err = parse(&with("zzzzzzzzzzzzzzzz = 1"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("`radar.zzzzzzzzzzzzzzzz`") && err.contains("this table has"),
+        "{err}"
+    );
+}
+
+#[test]
+fn fields_at_their_bounds() {
+    let parse = |from: &str, to: &str| {
+        assert!(SCENE.contains(from), "test bug: {from}");
+        metamoran_bundle::Scene::parse(Path::new("scene.toml"), &SCENE.replacen(from, to, 1))
+            .map_err(|e| e.to_string())
+    };
+    let err = parse("frame_period_s     = 0.1", "frame_period_s = 0.0").unwrap_err();
+    assert!(
+        err.contains("`radar.frame_period_s`") && err.contains("greater than zero"),
+        "{err}"
+    );
+    let err = parse(
+        "translation_m = [0.0, -0.15, 0.0]",
+        "translation_m = [nan, -0.15, 0.0]",
+    )
+    .unwrap_err();
+    assert!(err.contains("`camera.translation_m[0]`"), "{err}");
+    let err = parse("adc_file           = \"radar.bin\"", "adc_file = \"\"").unwrap_err();
+    assert!(err.contains("`radar.adc_file`"), "{err}");
+    // A derived quantity out of range names the field it comes from (R_max = fs·c/2S).
+    let err = parse("slope_hz_per_s     = 29.982e12", "slope_hz_per_s = 1e-300").unwrap_err();
+    assert!(err.contains("`radar.slope_hz_per_s`"), "{err}");
+    // The pixel limit: 8K UHD is allowed, one column more is not.
+    let big = |w: u32, h: u32| {
+        parse(
+            "width  = 8\nheight = 4",
+            &format!("width = {w}\nheight = {h}"),
+        )
+    };
+    assert!(big(7680, 4320).is_ok(), "{:?}", big(7680, 4320));
+    let err = big(7681, 4320).unwrap_err();
+    assert!(
+        err.contains("`camera.width`") && err.contains("pixels"),
+        "{err}"
+    );
+    // The frame limit (256 MiB): 2048 samples × 2048 loops × 16 slots × 1 RX × 4 bytes is
+    // exactly it and passes that check; a second RX does not.
+    let frame = |rx: &str| {
+        let slots = format!("tx_order = [{}]", vec!["0"; 16].join(", "));
+        let text = SCENE
+            .replacen("adc_samples        = 8", "adc_samples = 2048", 1)
+            .replacen("chirps_per_tx      = 2", "chirps_per_tx = 2048", 1)
+            .replacen("tx_order           = [0, 1]", &slots, 1)
+            .replacen("rx_positions       = [0, 1, 2, 3]", rx, 1);
+        metamoran_bundle::Scene::parse(Path::new("scene.toml"), &text).map_err(|e| e.to_string())
+    };
+    if let Err(e) = frame("rx_positions = [0]") {
+        assert!(!e.contains("per frame"), "{e}");
+    }
+    let err = frame("rx_positions = [0, 1]").unwrap_err();
+    assert!(
+        err.contains("`radar.adc_samples`") && err.contains("per frame"),
+        "{err}"
+    );
+}
+
+#[test]
+fn files_of_a_bundle_resolve_inside_it() {
+    use std::os::unix::fs::symlink;
+    for name in [
+        "000000_mask.png",
+        "000000_depth.png",
+        "000000_instances.json",
+    ] {
+        let outside = tempfile::tempdir().unwrap();
+        let err = error_after(|d| {
+            let p = d.join("camera").join(name);
+            std::fs::copy(&p, outside.path().join(name)).unwrap();
+            std::fs::remove_file(&p).unwrap();
+            symlink(outside.path().join(name), &p).unwrap();
+        });
+        assert_names(&err, name, "resolves to");
+    }
+    // A file the reader does not read (the RGB image without camera models) is not checked.
+    let tmp = tempfile::tempdir().unwrap();
+    let outside = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    std::fs::write(outside.path().join("image.png"), b"x").unwrap();
+    symlink(
+        outside.path().join("image.png"),
+        tmp.path().join("camera/000000_image.png"),
+    )
+    .unwrap();
+    open(tmp.path()).unwrap();
+    // And the check itself.
+    let root = tmp.path().canonicalize().unwrap();
+    let link = tmp.path().join("camera/000000_image.png");
+    assert!(metamoran_bundle::limits::confined(&root, &link).is_err());
+    assert!(metamoran_bundle::limits::confined(&root, &tmp.path().join("scene.toml")).is_ok());
+}
+
+#[test]
+fn a_file_at_its_size_limit_reads_one_byte_more_does_not() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("f");
+    std::fs::write(&p, [1u8; 100]).unwrap();
+    assert_eq!(
+        metamoran_bundle::limits::read_bounded(&p, 100)
+            .unwrap()
+            .len(),
+        100
+    );
+    let err = metamoran_bundle::limits::read_bounded(&p, 99)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("100 bytes") && err.contains("at most 99"),
+        "{err}"
+    );
+}
+
+#[test]
+fn classes_are_lowercase_words_and_sorted_into_kinds() {
+    let parse =
+        |json: &str| metamoran_bundle::parse_instances(Path::new("i.json"), json.as_bytes());
+    for bad in ["Car", "", "car park"] {
+        let json = format!(r#"{{"instances": [{{"id": 1, "class": "{bad}"}}]}}"#);
+        let err = parse(&json).unwrap_err().to_string();
+        assert!(err.contains("instances[0].class"), "{bad:?}: {err}");
+    }
+    let list =
+        parse(r#"{"instances": [{"id": 1, "class": "car"}, {"id": 2, "class": "tree"}]}"#).unwrap();
+    assert!(list[0].is_object_of_interest() && !list[0].is_clutter());
+    assert!(list[1].is_clutter() && !list[1].is_object_of_interest());
+    // Truncated and malformed JSON are syntax errors, not field errors.
+    for broken in [r#"{"instances": ["#, r#"{"instances": ]"#] {
+        let e = parse(broken).unwrap_err();
+        assert!(
+            matches!(e, metamoran_bundle::error::InputError::Syntax { .. }),
+            "{broken}: {e:?}"
+        );
+    }
+}
+
+#[test]
+fn png16_and_depth_read_back_exactly() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = tmp.path().join("d.png");
+    let values: Vec<u16> = (0..12).map(|i| 1000 * i + 7).collect();
+    write_png(&p, 4, 3, png::BitDepth::Sixteen, &values);
+    let bytes = std::fs::read(&p).unwrap();
+    assert_eq!(
+        metamoran_bundle::parse_png16(&p, &bytes, 4, 3).unwrap(),
+        values
+    );
+    // depth_m indexes row-major: pixel (2, 3) of the 8×4 depth is 256·20 + 3·8 + 2.
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    let cam = open(tmp.path()).unwrap().camera_frame(0).unwrap();
+    assert_eq!(cam.depth_m(2, 3), Some(20.0 + 26.0 / 256.0));
+}
