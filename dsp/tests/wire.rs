@@ -637,3 +637,20 @@ fn sessions_separate_keys_streams_and_counters() {
         [Err(LinkError::Tag)]
     );
 }
+
+#[test]
+fn a_score_holds_half_decibels_and_the_survival_bit() {
+    let s = Score::new(20.3, true);
+    assert_eq!((s.over_floor_db(), s.survives()), (20.5, true));
+    assert_eq!(Score::new(20.2, false).over_floor_db(), 20.0);
+    assert!(!Score::new(20.2, false).survives());
+    // Clamped to 0 … 63.5 dB; NaN and negative heights are 0.
+    assert_eq!(Score::new(100.0, true).over_floor_db(), 63.5);
+    assert_eq!(Score::new(-3.0, false), Score(0));
+    assert_eq!(Score::new(f32::NAN, true), Score(1));
+    // One byte on the wire.
+    assert_eq!(
+        postcard::to_allocvec(&Score::new(63.5, true)).unwrap(),
+        [255]
+    );
+}
