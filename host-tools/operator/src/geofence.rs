@@ -609,6 +609,77 @@ mod tests {
         assert!(err(two).contains("zone[1].name"));
     }
 
+    /// Whether segments `p1–p2` and `q1–q2` (integer corners, neither a point) share a point,
+    /// in exact integer arithmetic: Cramer's rule for the crossing, interval overlap when they
+    /// lie on one line. The reference for [`segments_meet`].
+    fn meet_exactly(p1: [i64; 2], p2: [i64; 2], q1: [i64; 2], q2: [i64; 2]) -> bool {
+        let cross = |a: [i64; 2], b: [i64; 2]| a[0] * b[1] - a[1] * b[0];
+        let sub = |a: [i64; 2], b: [i64; 2]| [a[0] - b[0], a[1] - b[1]];
+        let (r, u, w) = (sub(p2, p1), sub(q2, q1), sub(q1, p1));
+        let denom = cross(r, u);
+        if denom != 0 {
+            // p1 + s·r = q1 + t·u with s = cross(w, u)/denom, t = cross(w, r)/denom in [0, 1].
+            let within = |num: i64| {
+                let (n, d) = if denom < 0 {
+                    (-num, -denom)
+                } else {
+                    (num, denom)
+                };
+                (0..=d).contains(&n)
+            };
+            return within(cross(w, u)) && within(cross(w, r));
+        }
+        if cross(w, r) != 0 {
+            return false; // parallel, on different lines
+        }
+        // One line: project onto r and compare the intervals.
+        let dot = |a: [i64; 2], b: [i64; 2]| a[0] * b[0] + a[1] * b[1];
+        let (a, b) = (dot(w, r), dot(sub(q2, p1), r));
+        a.max(b) >= 0 && a.min(b) <= dot(r, r)
+    }
+
+    #[test]
+    fn segments_meet_as_exact_arithmetic_says() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x % 7) as i64 - 3
+        };
+        let (mut crossing, mut touching) = (0, 0);
+        for _ in 0..200_000 {
+            let mut corner = || [next(), next()];
+            let (p1, p2, q1, q2) = (corner(), corner(), corner(), corner());
+            if p1 == p2 || q1 == q2 {
+                continue;
+            }
+            let f = |v: [i64; 2]| [v[0] as f64, v[1] as f64];
+            let expected = meet_exactly(p1, p2, q1, q2);
+            assert_eq!(
+                segments_meet(f(p1), f(p2), f(q1), f(q2)),
+                expected,
+                "{p1:?}–{p2:?} and {q1:?}–{q2:?}"
+            );
+            touching += usize::from([p1, p2].iter().any(|v| *v == q1 || *v == q2));
+            crossing += usize::from(expected);
+        }
+        // The draw covers shared corners and crossings alike.
+        assert!(
+            crossing > 10_000 && touching > 10_000,
+            "{crossing} {touching}"
+        );
+    }
+
+    #[test]
+    fn the_hysteresis_defaults_to_a_metre() {
+        let p = Perimeter::parse(
+            "restricted_classes = [\"car\"]\n[[zone]]\nname = \"z\"\npolygon = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]]\n",
+        )
+        .unwrap();
+        assert_eq!(p.hysteresis_m, 1.0);
+    }
+
     /// Two zones, overlapping: an object is in both, then only in the second, and each zone's
     /// alerts name that zone.
     #[test]
