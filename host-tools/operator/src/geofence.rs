@@ -671,6 +671,94 @@ mod tests {
         );
     }
 
+    /// A star-shaped (so simple) polygon of `n` corners around (5, 5): angles increasing, radii
+    /// 1–5 m, from `next` (uniform in 0..1).
+    fn star(n: usize, next: &mut impl FnMut() -> f64) -> Vec<[f64; 2]> {
+        let mut angles: Vec<f64> = (0..n).map(|_| next() * std::f64::consts::TAU).collect();
+        angles.sort_by(f64::total_cmp);
+        angles
+            .iter()
+            .map(|&a| {
+                let r = 1.0 + 4.0 * next();
+                [5.0 + r * a.cos(), 5.0 + r * a.sin()]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn signed_distance_agrees_with_winding_and_sampled_edges() {
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..300 {
+            let polygon = star(3 + (next() * 8.0) as usize, &mut next);
+            for _ in 0..20 {
+                let p = [10.0 * next(), 10.0 * next()];
+                // Winding number by summing the angles each edge subtends (not a ray count).
+                let winding: f64 = (0..polygon.len())
+                    .map(|i| {
+                        let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+                        let (ua, ub) = ([a[0] - p[0], a[1] - p[1]], [b[0] - p[0], b[1] - p[1]]);
+                        (ua[0] * ub[1] - ua[1] * ub[0]).atan2(ua[0] * ub[0] + ua[1] * ub[1])
+                    })
+                    .sum();
+                let is_inside = winding.abs() > std::f64::consts::PI;
+                // Distance to the boundary by sampling every edge at 4,000 points.
+                let sampled = (0..polygon.len())
+                    .flat_map(|i| {
+                        let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+                        (0..=4000).map(move |k| {
+                            let t = f64::from(k) / 4000.0;
+                            [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+                        })
+                    })
+                    .map(|q| (q[0] - p[0]).hypot(q[1] - p[1]))
+                    .fold(f64::INFINITY, f64::min);
+                let d = signed_distance(&polygon, p);
+                assert_eq!(d > 0.0, is_inside, "{polygon:?} at {p:?}: {d}");
+                // Sampling overestimates by at most half a step (10 m / 4,000 / 2).
+                assert!(
+                    d.abs() <= sampled + 1e-12 && d.abs() >= sampled - 2e-3,
+                    "{polygon:?} at {p:?}: {d} vs {sampled}"
+                );
+                if is_inside {
+                    inside += 1;
+                } else {
+                    outside += 1;
+                }
+            }
+        }
+        assert!(inside > 500 && outside > 500, "{inside} {outside}");
+    }
+
+    #[test]
+    fn polygons_at_the_edge_of_what_is_allowed() {
+        let zone = |polygon: &str| {
+            Perimeter::parse(&format!(
+                "restricted_classes = [\"car\"]\n[[zone]]\nname = \"z\"\npolygon = {polygon}\n"
+            ))
+            .map_err(|e| e.to_string())
+        };
+        // Acute corners, a straight-through corner, and exactly the least area: all fine.
+        zone("[[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]]").unwrap();
+        zone("[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]]").unwrap();
+        zone("[[0.0, 0.0], [0.5, 0.0], [0.5, 0.5], [0.0, 0.5]]").unwrap();
+        // Two corners are not a zone.
+        let e = zone("[[0.0, 0.0], [4.0, 0.0]]").unwrap_err();
+        assert!(e.contains("at least 3"), "{e}");
+        // A triangle whose third corner folds back onto its first edge: reported as a fold
+        // (edges that cross) before its zero area.
+        let e = zone("[[0.0, 0.0], [4.0, 0.0], [2.0, 0.0]]").unwrap_err();
+        assert!(e.contains("cross"), "{e}");
+        let e = zone("[[0.0, 0.0], [4.0, 0.0], [6.0, 0.0]]").unwrap_err();
+        assert!(e.contains("cross"), "{e}");
+    }
+
     #[test]
     fn the_hysteresis_defaults_to_a_metre() {
         let p = Perimeter::parse(
