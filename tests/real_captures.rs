@@ -8,6 +8,7 @@ use metamoran_dsp::window::WindowKind;
 use metamoran_e2e::{real_capture_config, real_capture_dir, top_k};
 use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 use serde_json::Value;
+use std::path::Path;
 
 fn expected(name: &str) -> Value {
     let path = real_capture_dir(name).join("expected.json");
@@ -17,10 +18,22 @@ fn expected(name: &str) -> Value {
 }
 
 fn spectra(name: &str, order: IqOrder, window: WindowKind) -> FrameSpectra {
+    spectra_with(name, &real_capture_config(name), Some(order), window)
+}
+
+/// The frame spectra of capture `name` read with radar config `config` (TOML, .cfg or
+/// .mmwave.json) in `order` (or the config's).
+fn spectra_with(
+    name: &str,
+    config: &Path,
+    order: Option<IqOrder>,
+    window: WindowKind,
+) -> FrameSpectra {
     let mut file = open_bare(
         &real_capture_dir(name).join("adc_data.bin"),
-        &real_capture_config(name),
+        config,
         order,
+        None,
     )
     .unwrap();
     assert_eq!(
@@ -52,13 +65,18 @@ fn bins(v: &Value) -> Vec<usize> {
 /// Top-3 range bins (ordered, or as a set where the margins are within 1%) and the top-5
 /// magnitudes to 0.5% (int16 units, as the recipe reads them).
 fn check_range(name: &str, order: IqOrder) {
+    check_range_with(name, &real_capture_config(name), Some(order));
+}
+
+/// [`check_range`] with radar config `config`.
+fn check_range_with(name: &str, config: &Path, order: Option<IqOrder>) {
     let exp = expected(name);
     for (key, window) in [
         ("no_window", WindowKind::Rectangular),
         ("hann", WindowKind::Hann),
     ] {
         let reference = &exp["range_fft"][key];
-        let s = spectra(name, order, window);
+        let s = spectra_with(name, config, order, window);
         let profile: Vec<f32> = s.range_profile.iter().map(|m| m * 32768.0).collect();
         let mut got = top_k(&profile, 3);
         let mut want = bins(&reference["top3_bins"]);
@@ -132,7 +150,8 @@ fn openradar_frame_chirp0_only() {
     let mut file = open_bare(
         &real_capture_dir(name).join("adc_data.bin"),
         &real_capture_config(name),
-        IqOrder::Iiqq,
+        Some(IqOrder::Iiqq),
+        None,
     )
     .unwrap();
     let mut samples = Vec::new();
@@ -175,7 +194,8 @@ fn mmwave_capture_std_qqii() {
     let mut file = open_bare(
         &real_capture_dir(name).join("adc_data.bin"),
         &real_capture_config(name),
-        IqOrder::Qqii,
+        Some(IqOrder::Qqii),
+        None,
     )
     .unwrap();
     let mut samples = Vec::new();
@@ -199,4 +219,51 @@ fn mmwave_capture_std_qqii() {
     let mut want = bins(&check["top3_bins_no_window_if_wrongly_read_as_IIQQ"]);
     want.sort();
     assert_eq!(got, want);
+}
+
+/// Issue #19: the capture's own mmWave SDK `.cfg` (unmodified, from the capture tool's
+/// repository) instead of our hand-written TOML. It gives the I/Q order (`adcbufCfg` sample
+/// swap), the board (its Visualizer header says xWR18xx) and so the TX0/TX2 positions; the
+/// capture holds the first 2 of the frame's 16 loops. The same figures as expected.json.
+#[test]
+fn mmwave_capture_std_with_its_own_cfg() {
+    let name = "mmwave_capture_std_one_frame";
+    let cfg = real_capture_dir(name).join("xwr18xx_profile_2023_01_01T00_00_00_000.cfg");
+    check_range_with(name, &cfg, None);
+    let file = open_bare(
+        &real_capture_dir(name).join("adc_data.bin"),
+        &cfg,
+        None,
+        None,
+    )
+    .unwrap();
+    assert_eq!(file.loops_of_frame(), Some((2, 16)));
+    let (got, ours) = (
+        file.config(),
+        &metamoran_bundle::capture::read_config(&real_capture_config(name), None)
+            .unwrap()
+            .radar,
+    );
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+    assert!(close(got.start_frequency_hz, ours.start_frequency_hz));
+    assert!(close(got.slope_hz_per_s, ours.slope_hz_per_s));
+    assert!(close(got.sample_rate_hz, ours.sample_rate_hz));
+    assert!(close(got.chirp_period_s, ours.chirp_period_s));
+    assert!(close(got.frame_period_s, ours.frame_period_s));
+    assert_eq!(
+        (
+            got.adc_samples,
+            got.chirps_per_tx,
+            &got.tx_positions,
+            &got.rx_positions,
+            &got.tx_order
+        ),
+        (
+            ours.adc_samples,
+            ours.chirps_per_tx,
+            &ours.tx_positions,
+            &ours.rx_positions,
+            &ours.tx_order
+        )
+    );
 }

@@ -17,6 +17,7 @@ pub mod geometry;
 pub mod lidar;
 pub mod limits;
 pub mod pose;
+pub mod ti;
 
 mod camera;
 pub mod camera_models;

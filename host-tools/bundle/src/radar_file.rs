@@ -15,11 +15,15 @@ pub struct RadarFile {
     config: RadarConfig,
     order: IqOrder,
     file: File,
+    /// (loops held, loops configured) when the capture is shorter than one frame.
+    loops_of_frame: Option<(u16, u16)>,
 }
 
 impl RadarFile {
     /// Opens `path` for `config`. With `config.frames == 0` the frame count is derived from the
-    /// size, which must then be a whole number of frames.
+    /// size, which must then be a whole number of frames; a capture shorter than one frame that
+    /// holds whole loops (all TX slots of each) is read as one frame of those loops (see
+    /// [`Self::loops_of_frame`]).
     ///
     /// # Errors
     /// [`InputError`] if the file cannot be read or its size does not match the configuration.
@@ -35,7 +39,15 @@ impl RadarFile {
                 c.adc_samples
             )
         };
-        if config.frames == 0 {
+        let loop_bytes = frame_bytes / u64::from(config.chirps_per_tx.max(1));
+        let mut loops_of_frame = None;
+        if config.frames == 0 && size > 0 && size < frame_bytes && size % loop_bytes == 0 {
+            // A capture cut short of its first frame (a pcap of the first packets): the loops
+            // it holds are one frame.
+            loops_of_frame = Some(((size / loop_bytes) as u16, config.chirps_per_tx));
+            config.chirps_per_tx = (size / loop_bytes) as u16;
+            config.frames = 1;
+        } else if config.frames == 0 {
             if size == 0 || size % frame_bytes != 0 {
                 return Err(InputError::file(
                     path,
@@ -64,7 +76,14 @@ impl RadarFile {
             config,
             order,
             file,
+            loops_of_frame,
         })
+    }
+
+    /// `(loops held, loops per frame configured)` when the capture was cut short of one frame
+    /// and is read as one frame of the loops it holds.
+    pub fn loops_of_frame(&self) -> Option<(u16, u16)> {
+        self.loops_of_frame
     }
 
     /// The configuration (with `frames` filled in).

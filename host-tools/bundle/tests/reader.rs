@@ -421,12 +421,12 @@ fn a_bare_capture_takes_its_frame_count_from_the_size_or_the_config() {
     std::fs::write(&cfg, bare_config()).unwrap();
     let frame = vec![7u8; PER_FRAME * 4];
     std::fs::write(&bin, frame.repeat(3)).unwrap();
-    let f = metamoran_bundle::capture::open_bare(&bin, &cfg, IqOrder::Iiqq).unwrap();
+    let f = metamoran_bundle::capture::open_bare(&bin, &cfg, Some(IqOrder::Iiqq), None).unwrap();
     assert_eq!(f.config().frames, 3);
     // Not a whole number of frames, or empty: an error saying so.
     for len in [3 * frame.len() - 4, 0] {
         std::fs::write(&bin, &frame.repeat(3)[..len]).unwrap();
-        let err = metamoran_bundle::capture::open_bare(&bin, &cfg, IqOrder::Iiqq)
+        let err = metamoran_bundle::capture::open_bare(&bin, &cfg, Some(IqOrder::Iiqq), None)
             .unwrap_err()
             .to_string();
         assert!(

@@ -24,6 +24,30 @@ impl From<IqArg> for IqOrder {
     }
 }
 
+/// A TI board whose antenna layout places a TI config's channels.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BoardArg {
+    /// xWR1843BOOST (TX1 half a wavelength up)
+    Xwr18xxBoost,
+    /// xWR1642BOOST
+    Xwr16xxBoost,
+    /// IWR6843ISK
+    Iwr6843isk,
+    /// MMWCAS-RF-EVM, four AWR2243
+    MmwcasRfEvm,
+}
+
+impl From<BoardArg> for metamoran_bundle::ti::Board {
+    fn from(a: BoardArg) -> Self {
+        match a {
+            BoardArg::Xwr18xxBoost => Self::Xwr18xxBoost,
+            BoardArg::Xwr16xxBoost => Self::Xwr16xxBoost,
+            BoardArg::Iwr6843isk => Self::Iwr6843Isk,
+            BoardArg::MmwcasRfEvm => Self::MmwcasRfEvm,
+        }
+    }
+}
+
 /// A processing method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ModeArg {

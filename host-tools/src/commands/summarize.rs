@@ -1,6 +1,6 @@
 //! `metamoran summarize`: range-profile peaks and moving targets of a bundle or a bare capture.
 
-use super::args::IqArg;
+use super::args::{BoardArg, IqArg};
 use metamoran_bundle::capture::open_bare;
 use metamoran_bundle::{Bundle, OpenOptions, RadarFile};
 use metamoran_dsp::capture::IqOrder;
@@ -10,17 +10,21 @@ use std::path::{Path, PathBuf};
 /// Summarize a scene bundle or a bare DCA1000 capture: range-profile peaks and moving targets.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json"
+    after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json\n  metamoran summarize adc_data.bin --config xwr18xx_profile.cfg --board xwr18xx-boost"
 )]
 pub struct Args {
     /// A bundle folder (with scene.toml) or a DCA1000 .bin file.
     path: PathBuf,
-    /// Radar config TOML (a `[radar]` table as in scene.toml) for a bare .bin.
+    /// Radar config of a bare .bin: a TOML `[radar]` table as in scene.toml, an mmWave SDK .cfg
+    /// or an mmWave Studio .mmwave.json.
     #[arg(long)]
     config: Option<PathBuf>,
-    /// I/Q order of the samples.
-    #[arg(long, value_enum, default_value = "iiqq")]
-    iq_order: IqArg,
+    /// The TI board a .cfg or .mmwave.json configures (its antenna layout).
+    #[arg(long, value_enum)]
+    board: Option<BoardArg>,
+    /// I/Q order of the samples [default: what a TI config sets, else iiqq].
+    #[arg(long, value_enum)]
+    iq_order: Option<IqArg>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -31,12 +35,24 @@ pub struct Args {
 /// # Errors
 /// A missing or bad capture, config or bundle.
 pub fn run(args: &Args) -> super::Result {
-    let mut file = open_capture(&args.path, args.config.as_deref(), args.iq_order.into())?;
+    let order = args.iq_order.map(IqOrder::from);
+    let mut file = open_capture(&args.path, args.config.as_deref(), order, args.board)?;
+    if let Some((have, frame)) = file.loops_of_frame() {
+        eprintln!(
+            "note: {} holds {have} of a frame's {frame} loops (a capture cut short); read as one frame of {have}",
+            args.path.display()
+        );
+    }
     super::print(&summarize(&mut file)?, args.json)
 }
 
 /// Opens a bare capture (with `config`) or the radar file of a bundle folder (checking the bundle).
-fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<RadarFile, String> {
+fn open_capture(
+    path: &Path,
+    config: Option<&Path>,
+    order: Option<IqOrder>,
+    board: Option<BoardArg>,
+) -> Result<RadarFile, String> {
     if !path.exists() {
         return Err(format!(
             "{}: no such file or folder; give a bundle folder or a DCA1000 .bin",
@@ -44,14 +60,15 @@ fn open_capture(path: &Path, config: Option<&Path>, order: IqOrder) -> Result<Ra
         ));
     }
     match config {
-        Some(cfg) => open_bare(path, cfg, order).map_err(|e| e.to_string()),
+        Some(cfg) => open_bare(path, cfg, order, board.map(Into::into)).map_err(|e| e.to_string()),
         None if path.is_dir() => {
+            let order = order.unwrap_or_default();
             let bundle = Bundle::open(path, OpenOptions::iq(order)).map_err(|e| e.to_string())?;
             RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order)
                 .map_err(|e| e.to_string())
         }
         None => Err(format!(
-            "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml)",
+            "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml), an mmWave SDK .cfg or an mmWave Studio .mmwave.json",
             path.display()
         )),
     }
