@@ -5,8 +5,8 @@ mod commands;
 
 use clap::{Parser, Subcommand};
 use commands::{
-    args::Locations, bench, demo, demo_capture, eval, inspect, map, odometry, process, provision,
-    simulate, summarize,
+    args::Locations, bench, dca1000_emulate, demo, demo_capture, eval, inspect, map, odometry,
+    process, provision, record, simulate, summarize,
 };
 use std::process::ExitCode;
 
@@ -34,6 +34,9 @@ enum Command {
     DemoCapture(demo_capture::Args),
     Bench(bench::Args),
     Provision(provision::Args),
+    Record(record::Args),
+    #[command(name = "dca1000-emulate")]
+    Dca1000Emulate(dca1000_emulate::Args),
 }
 
 fn run(cli: &Cli) -> commands::Result {
@@ -50,6 +53,8 @@ fn run(cli: &Cli) -> commands::Result {
         Command::DemoCapture(a) => demo_capture::run(a, at),
         Command::Bench(a) => bench::run(a, at),
         Command::Provision(a) => provision::run(a, at),
+        Command::Record(a) => record::run(a),
+        Command::Dca1000Emulate(a) => dca1000_emulate::run(a),
     }
 }
 

@@ -223,3 +223,80 @@ fn a_real_dca1000_session_replayed_gives_its_adc_data() {
     assert!(replies[..5].iter().all(|r| r.status == 0));
     assert!(pcap::udp_to_port(b"not a pcap", DATA_PORT).is_err());
 }
+
+/// The host configures and starts the (emulated) board over its config port, records the
+/// stream into a `.bin` and stops it: the recording is the file, every command answered in
+/// TI's order.
+#[test]
+fn a_controlled_recording_is_the_file() {
+    use metamoran_dca1000::control::Board;
+    use metamoran_dca1000::emulate::answer_commands;
+    use metamoran_dca1000::record::{Incomplete, record};
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let config = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let board = Board::at(
+        config.local_addr().unwrap(),
+        "127.0.0.1:0".parse().unwrap(),
+        Duration::from_secs(2),
+    )
+    .unwrap();
+    let done = Arc::new(AtomicBool::new(false));
+    let stop = done.clone();
+    let answering = std::thread::spawn(move || {
+        answer_commands(&config, Duration::from_millis(20), || {
+            stop.load(Ordering::SeqCst)
+        })
+        .unwrap()
+    });
+    let mut rx = Receiver::bind(
+        "127.0.0.1:0".parse().unwrap(),
+        FRAME,
+        Some([127, 0, 0, 1].into()),
+    )
+    .unwrap();
+    let to = rx.local_addr().unwrap();
+    board.start().unwrap();
+    let s = stream();
+    let data = s.clone();
+    let sender = std::thread::spawn(move || {
+        let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
+        send(
+            &socket,
+            to,
+            &data,
+            DEFAULT_PAYLOAD,
+            &Impairments::default(),
+            Some(Duration::from_micros(20)),
+        )
+        .unwrap()
+    });
+    let mut bin = Vec::new();
+    let timeouts = (Duration::from_secs(5), Duration::from_millis(300));
+    let rec = record(
+        &mut rx,
+        &mut bin,
+        FRAME,
+        Some(7),
+        timeouts,
+        Incomplete::ZeroFill,
+    )
+    .unwrap();
+    board.stop().unwrap();
+    sender.join().unwrap();
+    done.store(true, Ordering::SeqCst);
+    assert_eq!(
+        answering.join().unwrap(),
+        [
+            Command::Connect,
+            Command::ResetFpga,
+            Command::ConfigFpga,
+            Command::ConfigPacket,
+            Command::StartRecord,
+            Command::StopRecord
+        ]
+    );
+    assert_eq!((rec.frames, rec.incomplete.len()), (7, 0));
+    assert_eq!(bin, s[..7 * FRAME]);
+}

@@ -2,6 +2,7 @@
 
 pub mod budget;
 pub mod cmsis;
+pub mod dca1000;
 pub mod fft;
 pub mod m7;
 pub mod network;

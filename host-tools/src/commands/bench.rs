@@ -40,6 +40,17 @@ enum What {
         #[arg(long)]
         json: bool,
     },
+    /// The DCA1000 receiver's sustained loopback throughput at 100, 350, 700 Mbit/s and
+    /// unpaced, against the board's ~700 Mbit/s: loss and the receiving thread's CPU share.
+    #[command(after_help = "Example:\n  metamoran bench dca1000 --json")]
+    Dca1000 {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// Megabytes sent per rate.
+        #[arg(long, default_value_t = 256)]
+        mbytes: usize,
+    },
     /// The module's budgets on the release firmware: flash, RAM, stack, instructions per
     /// cascade-86 frame with 4 objects under QEMU -icount, telemetry bytes.
     #[command(after_help = "Example:\n  metamoran bench m7 --json")]
@@ -78,6 +89,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         What::M7 { json } => super::print(&bench::budget::run(&locations.firmware()?)?, *json),
         What::FftM7 { json } => super::print(&bench::m7::run(&locations.firmware()?)?, *json),
         What::Search { json } => super::print(&bench::search::run()?, *json),
+        What::Dca1000 { json, mbytes } => super::print(&bench::dca1000::run(*mbytes)?, *json),
         What::Network { json } => super::print(&bench::network::run()?, *json),
     }
 }

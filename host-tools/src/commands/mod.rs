@@ -3,6 +3,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod dca1000_emulate;
 pub mod demo;
 pub mod demo_capture;
 pub mod eval;
@@ -12,6 +13,7 @@ pub mod odometry;
 pub mod process;
 pub mod progress;
 pub mod provision;
+pub mod record;
 pub mod simulate;
 pub mod summarize;
 

@@ -13,8 +13,21 @@ use std::path::{Path, PathBuf};
     after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json\n  metamoran summarize adc_data.bin --config xwr18xx_profile.cfg --board xwr18xx-boost"
 )]
 pub struct Args {
-    /// A bundle folder (with scene.toml) or a DCA1000 .bin file.
-    path: PathBuf,
+    /// A bundle folder (with scene.toml) or a DCA1000 .bin file (none with --dca1000).
+    #[arg(required_unless_present = "dca1000")]
+    path: Option<PathBuf>,
+    /// Summarize a live DCA1000 stream instead: this host's address and data port the board
+    /// sends to (the frames are recorded to a temporary file first; needs --config).
+    #[arg(
+        long,
+        value_name = "ADDR",
+        requires = "config",
+        conflicts_with = "path"
+    )]
+    dca1000: Option<std::net::SocketAddr>,
+    /// With --dca1000: frames to take.
+    #[arg(long, requires = "dca1000")]
+    frames: Option<u64>,
     /// Radar config of a bare .bin: a TOML `[radar]` table as in scene.toml, an mmWave SDK .cfg
     /// or an mmWave Studio .mmwave.json.
     #[arg(long)]
@@ -36,11 +49,40 @@ pub struct Args {
 /// A missing or bad capture, config or bundle.
 pub fn run(args: &Args) -> super::Result {
     let order = args.iq_order.map(IqOrder::from);
-    let mut file = open_capture(&args.path, args.config.as_deref(), order, args.board)?;
+    // A live stream is recorded first, through `record`'s code.
+    let live = match (args.dca1000, &args.config) {
+        (Some(addr), Some(config)) => {
+            let stream = super::record::StreamArgs {
+                dca1000: addr,
+                config: config.clone(),
+                board: args.board,
+                from: None,
+                control: false,
+                frames: args.frames,
+                start_s: 10.0,
+                idle_s: 1.0,
+            };
+            let mut tmp = tempfile::NamedTempFile::new()?;
+            // Frames that are not whole are left out: they are never processed as frames.
+            let skip = metamoran_dca1000::record::Incomplete::Skip;
+            let rec = stream.record(&mut std::io::BufWriter::new(tmp.as_file_mut()), skip)?;
+            eprint!("{}", super::record::Report::new(tmp.path(), &rec));
+            if rec.bytes == 0 {
+                return Err(format!("no whole frame arrived on {addr}").into());
+            }
+            Some(tmp)
+        }
+        _ => None,
+    };
+    let path = live.as_ref().map_or_else(
+        || args.path.clone().unwrap_or_default(),
+        |t| t.path().to_owned(),
+    );
+    let mut file = open_capture(&path, args.config.as_deref(), order, args.board)?;
     if let Some((have, frame)) = file.loops_of_frame() {
         eprintln!(
             "note: {} holds {have} of a frame's {frame} loops (a capture cut short); read as one frame of {have}",
-            args.path.display()
+            path.display()
         );
     }
     super::print(&summarize(&mut file)?, args.json)
