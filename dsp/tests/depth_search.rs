@@ -271,20 +271,25 @@ fn bad_buffers_and_ranges_are_errors() {
     assert!(brute_force(&vec![C32::new(0.0, 0.0); 8 * N], &geo, &c, (5.0, 1.0)).is_err());
 }
 
-/// The object's shape twice in the same direction: a stronger copy at 2.0 m (an in-span
-/// reflector the camera's window rules out) and the object at 4.23 m.
-fn twin_scene() -> (Run, ObjectHint) {
-    let mut points: Vec<(f64, f64, f64)> =
-        SHAPE.iter().map(|&(s, r)| (4.23 + r, s, 150.0)).collect();
-    points.extend(SHAPE.iter().map(|&(s, r)| (2.0 + r, s, 400.0)));
-    let hint = ObjectHint {
+/// The hint of the [`SHAPE`] object across sin-azimuths ±0.06, without priors.
+fn car_hint() -> ObjectHint {
+    ObjectHint {
         id: 7,
         class: 1,
         span: (-0.06, 0.06),
         prior_m: 0.0,
         window_m: (0.0, 0.0),
         contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, rr as f32))),
-    };
+    }
+}
+
+/// The object's shape twice in the same direction: a stronger copy at 2.0 m (an in-span
+/// reflector the camera's window rules out) and the object at 4.23 m.
+fn twin_scene() -> (Run, ObjectHint) {
+    let mut points: Vec<(f64, f64, f64)> =
+        SHAPE.iter().map(|&(s, r)| (4.23 + r, s, 150.0)).collect();
+    points.extend(SHAPE.iter().map(|&(s, r)| (2.0 + r, s, 400.0)));
+    let hint = car_hint();
     (run(&points), hint)
 }
 
@@ -356,14 +361,7 @@ fn a_side_lobe_outscoring_the_object_is_reported_after_it() {
     // 20× an object point, 17° away, 1.7 m nearer.
     points.push((2.5, 0.3, 3000.0));
     let mut r = run(&points);
-    let hint = ObjectHint {
-        id: 7,
-        class: 1,
-        span: (-0.06, 0.06),
-        prior_m: 0.0,
-        window_m: (0.0, 0.0),
-        contour: Contour::new(SHAPE.iter().map(|&(s, rr)| (s as f32, rr as f32))),
-    };
+    let hint = car_hint();
     let report = search(&mut r, &hint);
     // The search alone is fooled: its best score is the side lobe (some contour point on the
     // reflector's 2.5 m, so the closest point up to the contour's 0.6 m depth nearer).

@@ -118,6 +118,22 @@ pub fn send(
     Ok(sent)
 }
 
+/// [`send`] from a fresh socket on `from` in its own thread: a board streaming while the
+/// caller receives.
+pub fn spawn(
+    from: SocketAddr,
+    to: SocketAddr,
+    stream: Vec<u8>,
+    payload: usize,
+    imp: Impairments,
+    pace: Option<Duration>,
+) -> std::thread::JoinHandle<io::Result<Sent>> {
+    std::thread::spawn(move || {
+        let socket = UdpSocket::bind(from)?;
+        send(&socket, to, &stream, payload, &imp, pace)
+    })
+}
+
 /// Answers every command that arrives on `socket` with status 0 (success), as the board does,
 /// until `until` returns true between commands (checked every `poll`); returns the commands
 /// answered, in order.

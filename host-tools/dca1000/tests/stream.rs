@@ -1,7 +1,7 @@
 //! The receiver against the emulator on loopback, and a real DCA1000 session (issue #19).
 
 use metamoran_dca1000::command::{Command, Reply};
-use metamoran_dca1000::emulate::{Impairments, schedule, send};
+use metamoran_dca1000::emulate::{Impairments, schedule, send, spawn};
 use metamoran_dca1000::packet::{DATA_PORT, DEFAULT_PAYLOAD};
 use metamoran_dca1000::{Frame, Receiver, pcap};
 use std::net::{SocketAddr, UdpSocket};
@@ -9,6 +9,10 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 const FRAME: usize = 32_768;
+/// Where the emulated board sends from.
+const LOCAL: &str = "127.0.0.1:0";
+/// One packet every 20 µs.
+const PACE: Option<Duration> = Some(Duration::from_micros(20));
 
 /// Ten frames of distinct bytes.
 fn stream() -> Vec<u8> {
@@ -31,20 +35,15 @@ fn through_loopback(
     )
     .unwrap();
     let to = rx.local_addr().unwrap();
-    let data = stream.to_vec();
-    let sender = std::thread::spawn(move || {
-        let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
-        // ~580 Mbit/s: below the DCA1000's practical rate, so the kernel keeps every datagram.
-        send(
-            &socket,
-            to,
-            &data,
-            DEFAULT_PAYLOAD,
-            &imp,
-            Some(Duration::from_micros(20)),
-        )
-        .unwrap()
-    });
+    // ~580 Mbit/s: below the DCA1000's practical rate, so the kernel keeps every datagram.
+    let sender = spawn(
+        LOCAL.parse().unwrap(),
+        to,
+        stream.to_vec(),
+        DEFAULT_PAYLOAD,
+        imp,
+        PACE,
+    );
     let mut frames = Vec::new();
     while let Some(f) = rx
         .next_frame(Duration::from_secs(5), Duration::from_millis(300))
@@ -52,7 +51,7 @@ fn through_loopback(
     {
         frames.push(f);
     }
-    (frames, rx.counters(), sender.join().unwrap())
+    (frames, rx.counters(), sender.join().unwrap().unwrap())
 }
 
 #[test]
@@ -259,19 +258,14 @@ fn a_controlled_recording_is_the_file() {
     let to = rx.local_addr().unwrap();
     board.start().unwrap();
     let s = stream();
-    let data = s.clone();
-    let sender = std::thread::spawn(move || {
-        let socket = UdpSocket::bind("127.0.0.1:0").unwrap();
-        send(
-            &socket,
-            to,
-            &data,
-            DEFAULT_PAYLOAD,
-            &Impairments::default(),
-            Some(Duration::from_micros(20)),
-        )
-        .unwrap()
-    });
+    let sender = spawn(
+        LOCAL.parse().unwrap(),
+        to,
+        s.clone(),
+        DEFAULT_PAYLOAD,
+        Impairments::default(),
+        PACE,
+    );
     let mut bin = Vec::new();
     let timeouts = (Duration::from_secs(5), Duration::from_millis(300));
     let rec = record(
@@ -284,7 +278,7 @@ fn a_controlled_recording_is_the_file() {
     )
     .unwrap();
     board.stop().unwrap();
-    sender.join().unwrap();
+    sender.join().unwrap().unwrap();
     done.store(true, Ordering::SeqCst);
     assert_eq!(
         answering.join().unwrap(),

@@ -4,11 +4,10 @@
 //! the other.
 
 use metamoran_dca1000::Receiver;
-use metamoran_dca1000::emulate::{Impairments, send};
+use metamoran_dca1000::emulate::{Impairments, spawn};
 use metamoran_dca1000::packet::DEFAULT_PAYLOAD;
 use serde::Serialize;
 use std::fmt;
-use std::net::UdpSocket;
 use std::time::{Duration, Instant};
 
 /// The DCA1000EVM's practical sample rate over its gigabit link, Mbit/s.
@@ -72,22 +71,18 @@ fn one_rate(stream: &[u8], mbps: f64) -> Result<Rate, crate::Error> {
         Some([127, 0, 0, 1].into()),
     )?;
     let to = rx.local_addr()?;
-    let data = stream.to_vec();
     let pace =
         (mbps > 0.0).then(|| Duration::from_secs_f64(DEFAULT_PAYLOAD as f64 * 8.0 / (mbps * 1e6)));
-    let sender = std::thread::spawn(move || {
-        let socket = UdpSocket::bind("127.0.0.1:0")?;
-        // Let the receiver start waiting first.
-        std::thread::sleep(Duration::from_millis(100));
-        send(
-            &socket,
-            to,
-            &data,
-            DEFAULT_PAYLOAD,
-            &Impairments::default(),
-            pace,
-        )
-    });
+    // The receiver is bound: what arrives before it reads waits in its socket buffer.
+    let from = "127.0.0.1:0".parse()?;
+    let sender = spawn(
+        from,
+        to,
+        stream.to_vec(),
+        DEFAULT_PAYLOAD,
+        Impairments::default(),
+        pace,
+    );
     let (cpu0, mut first, mut last) = (thread_cpu_s(), None, Instant::now());
     let mut whole_bytes = 0u64;
     while let Some(f) = rx.next_frame(Duration::from_secs(5), Duration::from_millis(300))? {
