@@ -757,6 +757,14 @@ mod tests {
         assert!(e.contains("cross"), "{e}");
         let e = zone("[[0.0, 0.0], [4.0, 0.0], [6.0, 0.0]]").unwrap_err();
         assert!(e.contains("cross"), "{e}");
+        // The same along a diagonal, where both coordinates enter the fold test.
+        for folded in [
+            "[[0.0, 0.0], [4.0, 4.0], [2.0, 2.0]]",
+            "[[0.0, 0.0], [4.0, 2.0], [-2.0, -1.0]]",
+        ] {
+            let e = zone(folded).unwrap_err();
+            assert!(e.contains("cross"), "{folded}: {e}");
+        }
     }
 
     #[test]
