@@ -90,12 +90,32 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
         &|| (),
     )
     .unwrap();
+    // The MMWCAS board's four device files: the module reads them copied into one file.
+    simulate(
+        Preset::LongRange,
+        RadarKind::Mmwcas,
+        73,
+        1,
+        tmp.path(),
+        &|| (),
+    )
+    .unwrap();
     let mut bundles: Vec<_> = std::fs::read_dir(tmp.path())
         .unwrap()
         .map(|e| e.unwrap().path())
         .collect();
     bundles.sort();
-    repeat_frames(&bundles[0], 3);
+    let parking = bundles
+        .iter()
+        .find(|b| {
+            b.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("parking-lot")
+        })
+        .unwrap();
+    repeat_frames(parking, 3);
     let mut detected = 0;
     for b in &bundles {
         let here = json(b, Runner::InProcess).unwrap();

@@ -16,6 +16,7 @@ pub mod fields;
 pub mod geometry;
 pub mod lidar;
 pub mod limits;
+pub mod mmwcas;
 pub mod pose;
 pub mod ti;
 
@@ -31,7 +32,7 @@ pub use camera::{
 };
 pub use camera_models::{CameraModels, ImageProducts};
 pub use radar_file::RadarFile;
-pub use scene::{ADC_LAYOUT, CameraConfig, FORMAT, FramesField, Scene, parse_radar};
+pub use scene::{ADC_LAYOUT, AdcLayout, CameraConfig, FORMAT, FramesField, Scene, parse_radar};
 pub use truth::{Ego, Truth, TruthFrame, TruthObject};
 
 use crate::error::InputError;
@@ -115,7 +116,12 @@ impl Bundle {
         limits::confined(&root, &scene_file)?;
         let scene = Scene::read(&scene_file)?;
         limits::confined(&root, &scene.adc_file)?;
-        let radar = RadarFile::open(&scene.adc_file, scene.radar.clone(), options.iq_order)?;
+        let radar = RadarFile::open_layout(
+            &scene.adc_file,
+            scene.radar.clone(),
+            options.iq_order,
+            scene.layout,
+        )?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let models = options.camera_models.as_deref();
         let segments = models.is_some_and(CameraModels::segments);

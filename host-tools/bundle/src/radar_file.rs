@@ -1,4 +1,5 @@
-//! Reading frames of DCA1000 samples from `radar.bin` or a bare capture.
+//! Reading frames of samples from `radar.bin` or a bare capture (the DCA1000's one file), or
+//! from an MMWCAS cascade's four device files ([`crate::mmwcas`]).
 
 use crate::error::InputError;
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
@@ -15,6 +16,8 @@ pub struct RadarFile {
     config: RadarConfig,
     order: IqOrder,
     file: File,
+    /// The slaves' data files of an MMWCAS capture (`file` is the master's).
+    slaves: Option<[File; 3]>,
     /// (loops held, loops configured) when the capture is shorter than one frame.
     loops_of_frame: Option<(u16, u16)>,
 }
@@ -76,8 +79,117 @@ impl RadarFile {
             config,
             order,
             file,
+            slaves: None,
             loops_of_frame,
         })
+    }
+
+    /// Opens the MMWCAS capture whose master data file is `master` (the slaves' files and all
+    /// four index files beside it) for `config` (16 RX). Every index file must give the same
+    /// frame count, every data file hold that many frames, and `config.frames` (when not 0)
+    /// agree with it.
+    ///
+    /// # Errors
+    /// [`InputError`] naming the file that is missing, short or disagrees.
+    pub fn open_mmwcas(master: &Path, mut config: RadarConfig) -> Result<Self, InputError> {
+        crate::mmwcas::check(master, &config)?;
+        let paths = crate::mmwcas::data_files(master)?;
+        let frame_bytes = crate::mmwcas::device_frame_bytes(&config);
+        let mut frames = None;
+        let mut files = Vec::with_capacity(4);
+        for p in &paths {
+            let idx_path = crate::mmwcas::index_file(p);
+            let idx = crate::mmwcas::read_index(&idx_path)?;
+            if *frames.get_or_insert(idx.frames) != idx.frames {
+                return Err(InputError::field(
+                    &idx_path,
+                    "numIdx",
+                    format!(
+                        "{} frames, but the master's index says {}",
+                        idx.frames,
+                        frames.unwrap_or(0)
+                    ),
+                ));
+            }
+            let (file, size) = crate::limits::open_regular(p, u64::MAX)?;
+            let need = u64::from(idx.frames) * frame_bytes;
+            if size < need {
+                return Err(InputError::file(
+                    p,
+                    format!(
+                        "{size} bytes, but {} frames of {frame_bytes} bytes ({} loops × {} chirps × 4 RX × {} samples × 4 bytes) are indexed",
+                        idx.frames,
+                        config.chirps_per_tx,
+                        config.slots(),
+                        config.adc_samples
+                    ),
+                ));
+            }
+            files.push(file);
+        }
+        let frames = frames.unwrap_or(0);
+        if config.frames != 0 && config.frames != frames {
+            return Err(InputError::file(
+                master,
+                format!(
+                    "the index files record {frames} frames, the config says {}",
+                    config.frames
+                ),
+            ));
+        }
+        config.frames = frames;
+        let mut files = files.into_iter();
+        let (Some(master_file), Some(a), Some(b), Some(c)) =
+            (files.next(), files.next(), files.next(), files.next())
+        else {
+            return Err(InputError::file(master, "four device files are needed"));
+        };
+        Ok(Self {
+            path: master.to_owned(),
+            config,
+            order: IqOrder::Iiqq,
+            file: master_file,
+            slaves: Some([a, b, c]),
+            loops_of_frame: None,
+        })
+    }
+
+    /// Opens the capture of `layout` at `path`: [`Self::open`] or [`Self::open_mmwcas`].
+    ///
+    /// # Errors
+    /// As those.
+    pub fn open_layout(
+        path: &Path,
+        config: RadarConfig,
+        order: IqOrder,
+        layout: crate::AdcLayout,
+    ) -> Result<Self, InputError> {
+        match layout {
+            crate::AdcLayout::Dca1000 => Self::open(path, config, order),
+            crate::AdcLayout::Mmwcas => Self::open_mmwcas(path, config),
+        }
+    }
+
+    /// Writes every frame in the DCA1000 layout (`radar.bin`'s): what a reader of one file, such
+    /// as the module under QEMU, takes. O(capture).
+    ///
+    /// # Errors
+    /// [`InputError`] if a frame cannot be read or `out` fails.
+    pub fn write_dca1000(&mut self, out: &mut impl std::io::Write) -> Result<(), InputError> {
+        let mut frame = Vec::new();
+        for f in 0..self.config.frames {
+            self.read_frame(f, &mut frame)?;
+            let mut bytes = Vec::with_capacity(frame.len() * 4);
+            for pair in frame.chunks(2) {
+                let (a, b) = (pair[0], pair.get(1).copied().unwrap_or_default());
+                for v in [a.re.0, b.re.0, a.im.0, b.im.0] {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+            out.write_all(&bytes)
+                .map_err(|e| InputError::write(&self.path, e))?;
+        }
+        Ok(())
     }
 
     /// `(loops held, loops per frame configured)` when the capture was cut short of one frame
@@ -110,6 +222,19 @@ impl RadarFile {
                     self.config.frames
                 ),
             ));
+        }
+        if let Some(slaves) = self.slaves.as_mut() {
+            let bytes = crate::mmwcas::device_frame_bytes(&self.config);
+            let mut devices: [Vec<u8>; 4] = Default::default();
+            let files = std::iter::once(&mut self.file).chain(slaves.iter_mut());
+            for (buf, file) in devices.iter_mut().zip(files) {
+                buf.resize(bytes as usize, 0);
+                file.seek(SeekFrom::Start(u64::from(frame) * bytes))
+                    .and_then(|_| file.read_exact(buf))
+                    .map_err(|e| InputError::io(&self.path, e))?;
+            }
+            crate::mmwcas::to_frame(&self.config, &devices, out);
+            return Ok(());
         }
         let n = self.config.samples_per_frame();
         let mut bytes = vec![0u8; n * 4];

@@ -8,8 +8,30 @@ use std::path::{Path, PathBuf};
 
 /// The exact format tag of a version-1 bundle.
 pub const FORMAT: &str = "metamoran-bundle/1";
-/// The only `adc_layout` of version 1.
+/// The `adc_layout` of bundle.md's version 1.
 pub const ADC_LAYOUT: &str = "dca1000-xwr18xx";
+
+/// How the radar samples are stored: bundle.md's DCA1000 layout, or (README's extension) the
+/// MMWCAS-RF-EVM's four device files.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AdcLayout {
+    /// One file, `radar.bin`'s layout (`dca1000-xwr18xx`).
+    #[default]
+    Dca1000,
+    /// `mmwcas-rf-evm`: `adc_file` names the master's data file (`master_NNNN_data.bin`); the
+    /// slaves' and the index files lie beside it ([`crate::mmwcas`]).
+    Mmwcas,
+}
+
+impl AdcLayout {
+    /// Its `adc_layout` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            AdcLayout::Dca1000 => ADC_LAYOUT,
+            AdcLayout::Mmwcas => "mmwcas-rf-evm",
+        }
+    }
+}
 
 /// Camera intrinsics and its pose in the radar frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,8 +65,10 @@ pub struct Scene {
     pub name: String,
     /// The radar configuration.
     pub radar: RadarConfig,
-    /// The ADC file, resolved against the bundle directory.
+    /// The ADC file, resolved against the bundle directory (the master's for an MMWCAS capture).
     pub adc_file: PathBuf,
+    /// How its samples are stored.
+    pub layout: AdcLayout,
     /// The camera.
     pub camera: CameraConfig,
     /// Elevation of each TX, half-wavelengths (README's extension of bundle.md; empty = all 0).
@@ -112,12 +136,21 @@ impl Scene {
                 ),
             ));
         }
-        let layout = radar_fields.string("adc_layout")?;
-        if layout != ADC_LAYOUT {
+        let layout_name = radar_fields.string("adc_layout")?;
+        let Some(layout) = [AdcLayout::Dca1000, AdcLayout::Mmwcas]
+            .into_iter()
+            .find(|l| l.name() == layout_name)
+        else {
             return Err(radar_fields.error(
                 "adc_layout",
-                format!("is \"{layout}\"; version 1 has only \"{ADC_LAYOUT}\""),
+                format!(
+                    "is \"{layout_name}\"; bundle.md's version 1 has \"{ADC_LAYOUT}\" (and this \
+                     reader \"mmwcas-rf-evm\", the cascade's four device files)"
+                ),
             ));
+        };
+        if layout == AdcLayout::Mmwcas {
+            crate::mmwcas::check(path, &radar)?;
         }
         let camera = parse_camera(&root.table("camera")?)?;
         let dir = path.parent().unwrap_or(Path::new("."));
@@ -127,6 +160,7 @@ impl Scene {
             name,
             radar,
             adc_file: dir.join(adc_file),
+            layout,
             camera,
             tx_elevation,
             rx_elevation,

@@ -310,7 +310,13 @@ pub fn process_streamed(
                 Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
                 Mode::Metamoran => {
                     bundle.read_radar_frame(f, &mut samples)?;
-                    metamoran_frame(&bundle, f, &samples, &objects, module.as_mut())?
+                    metamoran_frame(
+                        &bundle,
+                        f,
+                        &samples,
+                        &objects,
+                        module.as_mut().map(|m| &mut m.edge),
+                    )?
                 }
                 Mode::Naive => {
                     bundle.read_radar_frame(f, &mut samples)?;
@@ -344,7 +350,7 @@ pub fn process_streamed(
             result: &result,
             of: bundle.frames(),
             latency: started.elapsed(),
-            link: module.as_ref().map(QemuEdge::link_stats),
+            link: module.as_ref().map(|m| m.edge.link_stats()),
         });
         frames.push(result);
         if let Err(e) = consumed {
@@ -354,7 +360,7 @@ pub fn process_streamed(
     }
     // A module that already failed cannot report; what it computed is kept.
     let log = match module {
-        Some(q) if stopped.is_none() => Some(stop_module(q)?),
+        Some(q) if stopped.is_none() => Some(stop_module(q.edge)?),
         _ => None,
     };
     Ok((
@@ -383,10 +389,7 @@ fn unprocessed(instances: &[metamoran_bundle::Instance]) -> Vec<ObjectEstimate> 
 
 /// The module under QEMU, built, started and configured for `bundle`, if `options` run the
 /// Metamoran mode there.
-fn start_module(
-    bundle: &Bundle,
-    options: &ProcessOptions,
-) -> Result<Option<QemuEdge>, ProcessError> {
+fn start_module(bundle: &Bundle, options: &ProcessOptions) -> Result<Option<Module>, ProcessError> {
     let (Mode::Metamoran, Runner::Qemu { firmware, key_file }) = (options.mode, &options.runner)
     else {
         return Ok(None);
@@ -394,9 +397,35 @@ fn start_module(
     if options.open.iq_order != metamoran_dsp::capture::IqOrder::Iiqq {
         return Err(ProcessError::IqOrder);
     }
-    let mut q = QemuEdge::start(&bundle.scene.adc_file, key_file, firmware)?;
-    q.configure(&bundle.scene.radar)?;
-    Ok(Some(q))
+    // The module reads one file in radar.bin's layout: an MMWCAS capture is copied into one.
+    let copy = match bundle.scene.layout {
+        metamoran_bundle::AdcLayout::Dca1000 => None,
+        metamoran_bundle::AdcLayout::Mmwcas => {
+            let io = |e| metamoran_bundle::error::InputError::write(&std::env::temp_dir(), e);
+            let mut tmp = tempfile::NamedTempFile::new().map_err(io)?;
+            let mut file = metamoran_bundle::RadarFile::open_mmwcas(
+                &bundle.scene.adc_file,
+                bundle.scene.radar.clone(),
+            )?;
+            file.write_dca1000(&mut std::io::BufWriter::new(tmp.as_file_mut()))?;
+            Some(tmp)
+        }
+    };
+    let capture = copy
+        .as_ref()
+        .map_or(bundle.scene.adc_file.as_path(), |t| t.path());
+    let mut edge = QemuEdge::start(capture, key_file, firmware)?;
+    edge.configure(&bundle.scene.radar)?;
+    Ok(Some(Module {
+        edge,
+        _capture: copy,
+    }))
+}
+
+/// The module under QEMU and the capture file it reads, kept while it runs.
+struct Module {
+    edge: QemuEdge,
+    _capture: Option<tempfile::NamedTempFile>,
 }
 
 /// One frame of the Metamoran mode: the static search on `module` (QEMU, over the link) or in

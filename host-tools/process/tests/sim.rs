@@ -110,11 +110,18 @@ fn written_bundle_reads_back_exactly() {
         (Preset::Moving, RadarKind::Xwr18xx),
         (Preset::Perimeter, RadarKind::Xwr18xx),
         (Preset::Drive, RadarKind::Xwr18xx),
+        // The MMWCAS board's four device files and index files.
+        (Preset::LongRange, RadarKind::Mmwcas),
     ] {
-        let dir = tmp.path().join(format!("{preset:?}"));
+        let dir = tmp.path().join(format!("{preset:?}-{kind:?}"));
         simulate_one(preset, kind, 42, 3, &dir).unwrap();
         let scene = simulate_scene(preset, kind, 42, 3); // deterministic: the same scene again
         let mut b = Bundle::open(&dir, OpenOptions::default()).unwrap();
+        assert_eq!(b.scene.layout, scene.layout);
+        assert_eq!(
+            dir.join("master_0000_idx.bin").exists(),
+            kind == RadarKind::Mmwcas
+        );
         assert_eq!(b.scene.radar, scene.radar);
         assert_eq!(b.scene.tx_elevation, scene.tx_elevation);
         assert_eq!(b.frames() as usize, scene.shots.len());

@@ -106,6 +106,8 @@ pub struct SimulatedScene {
     pub adc: Vec<u8>,
     /// Elevation of each TX, half-wavelengths (empty: all 0).
     pub tx_elevation: Vec<i16>,
+    /// How the radar samples are written.
+    pub layout: metamoran_bundle::AdcLayout,
     /// The camera products of every frame.
     pub shots: Vec<Shot>,
     /// The lidar-like truth of every frame (drive preset; empty otherwise).
@@ -147,6 +149,22 @@ pub fn simulate_scene_with(
     let (layout, deepest) = layout::draw(preset, difficulty, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
+    // The MMWCAS board's raised TX add their elevation's phase to every echo.
+    let tx_elevation = if kind == RadarKind::Mmwcas {
+        radar::mmwcas_layout().1
+    } else {
+        Vec::new()
+    };
+    let elevation: Vec<i16> = (0..config.channels())
+        .map(|ch| {
+            let tx = config
+                .tx_order
+                .get(ch / config.rx_count())
+                .copied()
+                .unwrap_or(0);
+            tx_elevation.get(usize::from(tx)).copied().unwrap_or(0)
+        })
+        .collect();
     config.frames = u32::from(layout.frames);
     config.frame_period_s = layout.frame_period_s;
     let extra = ground(&mut rng, config.max_range() as f64);
@@ -159,7 +177,7 @@ pub fn simulate_scene_with(
         let t = f64::from(f) * layout.frame_period_s;
         let objects = motion::at(&layout.objects, &layout.paths, t);
         let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
-        adc.extend(signal::synthesize(&config, &echoes, &[], &mut rng));
+        adc.extend(signal::synthesize(&config, &echoes, &elevation, &mut rng));
         let (shot, truth_objects) = film(&objects, &model, &camera, difficulty, &mut rng);
         frames.push(TruthFrame {
             frame: u32::from(f),
@@ -179,7 +197,12 @@ pub fn simulate_scene_with(
         radar: config,
         camera,
         adc,
-        tx_elevation: Vec::new(),
+        tx_elevation,
+        layout: if kind == RadarKind::Mmwcas {
+            metamoran_bundle::AdcLayout::Mmwcas
+        } else {
+            metamoran_bundle::AdcLayout::Dca1000
+        },
         shots,
         lidar: Vec::new(),
         truth: Truth { frames },
@@ -293,6 +316,7 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         camera,
         adc,
         tx_elevation,
+        layout: metamoran_bundle::AdcLayout::Dca1000,
         shots,
         lidar,
         truth: Truth { frames },
@@ -377,6 +401,7 @@ pub fn simulate_one_with(
             camera: &s.camera,
             adc: &s.adc,
             tx_elevation: &s.tx_elevation,
+            layout: s.layout,
             shots: &s.shots,
             lidar: &s.lidar,
             truth: &s.truth,

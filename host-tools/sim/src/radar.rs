@@ -12,6 +12,31 @@ pub enum RadarKind {
     Xwr18xx,
     /// Cascade-like (MMWCAS): 12 TX × 16 RX, 86 distinct virtual elements, 512 samples.
     Cascade,
+    /// The MMWCAS-RF-EVM as TI lays it out and records it: the [`Cascade`](Self::Cascade)'s
+    /// array with TI's chirp order (TX12 … TX1), the master's three TX raised 6, 4 and 1
+    /// half-wavelengths, the 16 RX device by device, written as the board's four device files.
+    Mmwcas,
+}
+
+/// The MMWCAS-RF-EVM's layout from its board table: TX azimuths in TI's MIMO chirp order
+/// (TX12 … TX1), their elevations, and the RX azimuths master first.
+pub fn mmwcas_layout() -> (Vec<i16>, Vec<i16>, Vec<i16>) {
+    let b = metamoran_bundle::ti::Board::MmwcasRfEvm;
+    let tx: Vec<_> = (0..4)
+        .rev()
+        .flat_map(|d| (0..3).rev().map(move |c| (d, c)))
+        .filter_map(|(d, c)| b.tx(d, c))
+        .collect();
+    let rx = (0..4)
+        .flat_map(|d| (0..4).map(move |r| (d, r)))
+        .filter_map(|(d, r)| b.rx(d, r))
+        .map(|a| a.azimuth)
+        .collect();
+    (
+        tx.iter().map(|a| a.azimuth).collect(),
+        tx.iter().map(|a| a.elevation).collect(),
+        rx,
+    )
 }
 
 use metamoran_dsp::config::boards::{CASCADE_RX, CASCADE_TX};
@@ -31,9 +56,11 @@ pub fn max_range_for(depth: f64) -> f64 {
 
 /// A configuration for `kind` with unambiguous range `max_range` and `loops` chirps per TX.
 pub fn config(kind: RadarKind, max_range: f64, loops: u16) -> RadarConfig {
+    let (tx_mmwcas, _, rx_mmwcas) = mmwcas_layout();
     let (samples, tx, rx): (u16, &[i16], &[i16]) = match kind {
         RadarKind::Xwr18xx => (256, &[0, 4], &[0, 1, 2, 3]),
         RadarKind::Cascade => (512, &CASCADE_TX, &CASCADE_RX),
+        RadarKind::Mmwcas => (512, &tx_mmwcas, &rx_mmwcas),
     };
     let ramp = samples as f64 / SAMPLE_RATE;
     RadarConfig {

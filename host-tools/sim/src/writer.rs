@@ -1,7 +1,7 @@
 //! Writing a scene bundle exactly as bundle.md lays it out.
 
 use crate::SimError;
-use metamoran_bundle::{ADC_LAYOUT, CameraConfig, FORMAT, Truth};
+use metamoran_bundle::{AdcLayout, CameraConfig, FORMAT, Truth};
 use metamoran_dsp::config::RadarConfig;
 use std::path::Path;
 
@@ -12,8 +12,21 @@ fn io(path: &Path, e: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> Si
     }
 }
 
-/// `scene.toml` text for a radar and camera configuration.
-pub fn scene_toml(name: &str, radar: &RadarConfig, camera: &CameraConfig) -> String {
+/// The `adc_file` each layout's bundles name.
+pub fn adc_file(layout: AdcLayout) -> &'static str {
+    match layout {
+        AdcLayout::Dca1000 => "radar.bin",
+        AdcLayout::Mmwcas => "master_0000_data.bin",
+    }
+}
+
+/// `scene.toml` text for a radar and camera configuration, its samples stored as `layout`.
+pub fn scene_toml(
+    name: &str,
+    radar: &RadarConfig,
+    camera: &CameraConfig,
+    layout: AdcLayout,
+) -> String {
     let list = |v: &[i64]| {
         format!(
             "[{}]",
@@ -30,7 +43,7 @@ pub fn scene_toml(name: &str, radar: &RadarConfig, camera: &CameraConfig) -> Str
     format!(
         "format = \"{FORMAT}\"\nname = \"{name}\"\n\n[radar]\nstart_frequency_hz = {:?}\nslope_hz_per_s = {:?}\nsample_rate_hz = {:?}\n\
          adc_samples = {}\nchirp_period_s = {:?}\nchirps_per_tx = {}\nframes = {}\nframe_period_s = {:?}\ntx_positions = {}\n\
-         rx_positions = {}\ntx_order = {}\nadc_file = \"radar.bin\"\nadc_layout = \"{ADC_LAYOUT}\"\n\n[camera]\nwidth = {}\nheight = {}\n\
+         rx_positions = {}\ntx_order = {}\nadc_file = \"{}\"\nadc_layout = \"{}\"\n\n[camera]\nwidth = {}\nheight = {}\n\
          fx = {:?}\nfy = {:?}\ncx = {:?}\ncy = {:?}\ntranslation_m = [{:?}, {:?}, {:?}]\nyaw_deg = {:?}\npitch_deg = {:?}\nroll_deg = {:?}\n",
         radar.start_frequency_hz,
         radar.slope_hz_per_s,
@@ -43,6 +56,8 @@ pub fn scene_toml(name: &str, radar: &RadarConfig, camera: &CameraConfig) -> Str
         list(&tx),
         list(&rx),
         list(&order),
+        adc_file(layout),
+        layout.name(),
         camera.width,
         camera.height,
         camera.fx,
@@ -85,6 +100,8 @@ pub struct BundleContents<'a> {
     pub adc: &'a [u8],
     /// Elevation of each TX, half-wavelengths (written only when one is not 0).
     pub tx_elevation: &'a [i16],
+    /// How the samples are stored: `radar.bin`, or the MMWCAS board's four device files.
+    pub layout: AdcLayout,
     /// The camera products of every frame.
     pub shots: &'a [super::Shot],
     /// The lidar-like truth of every frame (written as `lidar/F.ply` when there is one).
@@ -101,7 +118,7 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), SimError> {
     let cam = dir.join("camera");
     std::fs::create_dir_all(&cam).map_err(|e| io(&cam, e))?;
     let p = dir.join("scene.toml");
-    let mut toml = scene_toml(b.name, b.radar, b.camera);
+    let mut toml = scene_toml(b.name, b.radar, b.camera, b.layout);
     if b.tx_elevation.iter().any(|&e| e != 0) {
         // The README's extension of bundle.md: after the [radar] keys, before [camera].
         let list: Vec<String> = b.tx_elevation.iter().map(i16::to_string).collect();
@@ -112,8 +129,13 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), SimError> {
         );
     }
     std::fs::write(&p, toml).map_err(|e| io(&p, e))?;
-    let p = dir.join("radar.bin");
-    std::fs::write(&p, b.adc).map_err(|e| io(&p, e))?;
+    match b.layout {
+        AdcLayout::Dca1000 => {
+            let p = dir.join("radar.bin");
+            std::fs::write(&p, b.adc).map_err(|e| io(&p, e))?;
+        }
+        AdcLayout::Mmwcas => write_mmwcas(dir, b.radar, b.adc)?,
+    }
     for (f, shot) in b.shots.iter().enumerate() {
         let paths = metamoran_bundle::CameraPaths::new(dir, f as u32);
         let (w, h) = (b.camera.width, b.camera.height);
@@ -129,4 +151,36 @@ pub fn write(dir: &Path, b: &BundleContents<'_>) -> Result<(), SimError> {
     }
     let p = dir.join("truth.json");
     std::fs::write(&p, serde_json::to_vec(b.truth).map_err(|e| io(&p, e))?).map_err(|e| io(&p, e))
+}
+
+/// The MMWCAS board's four data files and their index files of `adc` (`radar.bin`'s layout,
+/// every frame) into `dir`.
+fn write_mmwcas(dir: &Path, radar: &RadarConfig, adc: &[u8]) -> Result<(), SimError> {
+    use metamoran_bundle::mmwcas;
+    let frame_bytes = radar.samples_per_frame() * 4;
+    let mut devices: [Vec<u8>; 4] = Default::default();
+    let mut frame = vec![metamoran_dsp::fixed::CQ15::default(); radar.samples_per_frame()];
+    for bytes in adc.chunks_exact(frame_bytes.max(1)) {
+        metamoran_dsp::capture::deinterleave_bytes(
+            bytes,
+            metamoran_dsp::capture::IqOrder::Iiqq,
+            &mut frame,
+        )
+        .map_err(|e| io(&dir.join("radar.bin"), e.to_string()))?;
+        for (all, one) in devices.iter_mut().zip(mmwcas::to_devices(radar, &frame)) {
+            all.extend_from_slice(&one);
+        }
+    }
+    let frames = (adc.len() / frame_bytes.max(1)) as u32;
+    for (name, data) in mmwcas::DEVICES.iter().zip(&devices) {
+        let p = dir.join(format!("{name}_0000_data.bin"));
+        std::fs::write(&p, data).map_err(|e| io(&p, e))?;
+        let p = mmwcas::index_file(&p);
+        std::fs::write(
+            &p,
+            mmwcas::index_bytes(frames, mmwcas::device_frame_bytes(radar)),
+        )
+        .map_err(|e| io(&p, e))?;
+    }
+    Ok(())
 }

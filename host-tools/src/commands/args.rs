@@ -105,6 +105,9 @@ pub enum RadarArg {
     Xwr18xx,
     /// Cascade-like (MMWCAS): 12 TX × 16 RX, 86 distinct virtual elements, 512 samples.
     Cascade,
+    /// The MMWCAS-RF-EVM in TI's layout (chirp order, raised TX, RX by device), written as the
+    /// board's four device files.
+    Mmwcas,
 }
 
 impl From<RadarArg> for metamoran_sim::radar::RadarKind {
@@ -112,6 +115,7 @@ impl From<RadarArg> for metamoran_sim::radar::RadarKind {
         match a {
             RadarArg::Xwr18xx => Self::Xwr18xx,
             RadarArg::Cascade => Self::Cascade,
+            RadarArg::Mmwcas => Self::Mmwcas,
         }
     }
 }

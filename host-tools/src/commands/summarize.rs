@@ -106,8 +106,13 @@ fn open_capture(
         None if path.is_dir() => {
             let order = order.unwrap_or_default();
             let bundle = Bundle::open(path, OpenOptions::iq(order)).map_err(|e| e.to_string())?;
-            RadarFile::open(&bundle.scene.adc_file, bundle.scene.radar.clone(), order)
-                .map_err(|e| e.to_string())
+            RadarFile::open_layout(
+                &bundle.scene.adc_file,
+                bundle.scene.radar.clone(),
+                order,
+                bundle.scene.layout,
+            )
+            .map_err(|e| e.to_string())
         }
         None => Err(format!(
             "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml), an mmWave SDK .cfg or an mmWave Studio .mmwave.json",
