@@ -93,7 +93,11 @@ pub fn survival(
     let scale = crate::fft::cfft_q15_bit_reversed(fft)
         .map_err(|_| SearchError::Range)?
         .scale_f32();
-    let at = |j: usize| fft.get(crate::fft::bit_reversed(j % l, l)).copied();
+    // (`checked_rem`: no division by a zero length, so no panic path on the module.)
+    let at = |j: usize| {
+        let k = j.checked_rem(l)?;
+        fft.get(crate::fft::bit_reversed(k, l)).copied()
+    };
     // The strongest direction on the grid, refined by a parabola through its neighbours in dB.
     let power = |j: usize| at(j).map_or(0, CQ15::norm_sqr_raw);
     let j = (0..l).fold(0, |best, j| if power(j) > power(best) { j } else { best });
@@ -124,7 +128,7 @@ pub fn survival(
     let last = (libm::floorf(hi / grid + 0.5) as i32).max(first);
     let (mut before, mut after) = (0.0f32, 0.0f32);
     for q in first..=last {
-        let Some(z) = at(q.rem_euclid(l as i32) as usize) else {
+        let Some(z) = q.checked_rem_euclid(l as i32).and_then(|k| at(k as usize)) else {
             continue;
         };
         let x = C32::new(f32::from(z.re.0) * scale, f32::from(z.im.0) * scale);
