@@ -1,6 +1,7 @@
 //! Range: windowed, zero-padded FFT of each (chirp, RX) row, streaming as rows arrive, into a
 //! caller-owned [`RangeCube`].
 
+pub mod calibration;
 mod cube;
 pub mod frame_sum;
 mod processor;
