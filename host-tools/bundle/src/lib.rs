@@ -10,6 +10,7 @@
 //! geometry ([`geometry`]), the bare-capture reader ([`capture`]), the ego pose ([`pose`]) and
 //! the lidar truth files ([`lidar`]), and the typed input errors ([`error`]).
 
+pub mod calibration;
 pub mod capture;
 pub mod error;
 pub mod fields;
@@ -116,12 +117,17 @@ impl Bundle {
         limits::confined(&root, &scene_file)?;
         let scene = Scene::read(&scene_file)?;
         limits::confined(&root, &scene.adc_file)?;
-        let radar = RadarFile::open_layout(
+        let mut radar = RadarFile::open_layout(
             &scene.adc_file,
             scene.radar.clone(),
             options.iq_order,
             scene.layout,
         )?;
+        if let Some(path) = &scene.calibration_file {
+            limits::confined(&root, path)?;
+            let file = calibration::CalibrationFile::read(path)?;
+            radar.calibrate(&file.for_config(path, &scene.radar)?);
+        }
         let (w, h) = (scene.camera.width, scene.camera.height);
         let models = options.camera_models.as_deref();
         let segments = models.is_some_and(CameraModels::segments);
@@ -181,6 +187,12 @@ impl Bundle {
         self.instances
             .get(frame as usize)
             .map_or(&[], Vec::as_slice)
+    }
+
+    /// The bundle's radar capture (calibrated if the bundle names a calibration), for readers
+    /// that need nothing else.
+    pub fn into_radar(self) -> RadarFile {
+        self.radar
     }
 
     /// Reads the radar samples of frame `frame`; see [`RadarFile::read_frame`].

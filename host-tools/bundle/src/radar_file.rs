@@ -5,6 +5,7 @@ use crate::error::InputError;
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
 use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::fixed::CQ15;
+use metamoran_dsp::range::calibration::{AppliedCalibration, Calibration};
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
@@ -20,6 +21,8 @@ pub struct RadarFile {
     slaves: Option<[File; 3]>,
     /// (loops held, loops configured) when the capture is shorter than one frame.
     loops_of_frame: Option<(u16, u16)>,
+    /// The channel calibration [`Self::read_frame`] applies.
+    calibration: Option<AppliedCalibration>,
 }
 
 impl RadarFile {
@@ -81,6 +84,7 @@ impl RadarFile {
             file,
             slaves: None,
             loops_of_frame,
+            calibration: None,
         })
     }
 
@@ -151,6 +155,7 @@ impl RadarFile {
             file: master_file,
             slaves: Some([a, b, c]),
             loops_of_frame: None,
+            calibration: None,
         })
     }
 
@@ -178,7 +183,7 @@ impl RadarFile {
     pub fn write_dca1000(&mut self, out: &mut impl std::io::Write) -> Result<(), InputError> {
         let mut frame = Vec::new();
         for f in 0..self.config.frames {
-            self.read_frame(f, &mut frame)?;
+            self.read_raw_frame(f, &mut frame)?;
             let mut bytes = Vec::with_capacity(frame.len() * 4);
             for pair in frame.chunks(2) {
                 let (a, b) = (pair[0], pair.get(1).copied().unwrap_or_default());
@@ -208,12 +213,44 @@ impl RadarFile {
         &self.path
     }
 
+    /// Applies `calibration` (for this capture's board) in every later [`Self::read_frame`].
+    pub fn calibrate(&mut self, calibration: &Calibration) {
+        self.calibration = Some(calibration.normalized());
+    }
+
+    /// Whether frames are read calibrated.
+    pub fn is_calibrated(&self) -> bool {
+        self.calibration.is_some()
+    }
+
     /// Reads frame `frame` into `out` (resized to one frame): `[chirp][rx][sample]`, chirps in
-    /// loop-major TDM order.
+    /// loop-major TDM order, calibrated if [`Self::calibrate`] was called (the range stage's
+    /// first step, [`metamoran_dsp::range::calibration`]).
     ///
     /// # Errors
     /// [`InputError`] if the frame does not exist or the file cannot be read.
     pub fn read_frame(&mut self, frame: u32, out: &mut Vec<CQ15>) -> Result<(), InputError> {
+        self.read_raw_frame(frame, out)?;
+        let Some(cal) = &self.calibration else {
+            return Ok(());
+        };
+        let (n, rx) = (self.config.adc_samples as usize, self.config.rx_count());
+        let mut row = vec![CQ15::default(); n];
+        for (i, chirp) in out.chunks_exact_mut(n).enumerate() {
+            let (c, r) = (i / rx, i % rx);
+            let tx = self.config.tx_order[c % self.config.slots()] as usize;
+            cal.apply(tx, r, chirp, &mut row)
+                .map_err(|e| InputError::file(&self.path, e.to_string()))?;
+            chirp.copy_from_slice(&row);
+        }
+        Ok(())
+    }
+
+    /// [`Self::read_frame`] without the calibration: the samples as recorded.
+    ///
+    /// # Errors
+    /// As [`Self::read_frame`].
+    pub fn read_raw_frame(&mut self, frame: u32, out: &mut Vec<CQ15>) -> Result<(), InputError> {
         if frame >= self.config.frames {
             return Err(InputError::file(
                 &self.path,

@@ -75,6 +75,9 @@ pub struct Scene {
     pub tx_elevation: Vec<i16>,
     /// Elevation of each RX, half-wavelengths (empty = all 0).
     pub rx_elevation: Vec<i16>,
+    /// The channel calibration file, resolved against the bundle directory (README's
+    /// `calibration_file` extension; `None`: the channels are used as recorded).
+    pub calibration_file: Option<PathBuf>,
 }
 
 /// The optional elevation list `key` of a `[radar]` table: one entry per antenna of `count`.
@@ -123,19 +126,12 @@ impl Scene {
         let name = root.string("name")?.to_owned();
         let radar_fields = root.table("radar")?;
         let radar = parse_radar(&radar_fields, FramesField::Required)?;
-        let adc_file = radar_fields.string("adc_file")?;
-        let inside = Path::new(adc_file)
-            .components()
-            .all(|c| matches!(c, std::path::Component::Normal(_)));
-        if adc_file.is_empty() || !inside {
-            return Err(radar_fields.error(
-                "adc_file",
-                format!(
-                    "\"{adc_file}\" must be a file name inside the bundle folder (no `..`, \
-                     no absolute path)"
-                ),
-            ));
-        }
+        let adc_file = inside_name(&radar_fields, "adc_file")?;
+        let calibration_file = if radar_fields.has("calibration_file") {
+            Some(inside_name(&radar_fields, "calibration_file")?)
+        } else {
+            None
+        };
         let layout_name = radar_fields.string("adc_layout")?;
         let Some(layout) = [AdcLayout::Dca1000, AdcLayout::Mmwcas]
             .into_iter()
@@ -164,12 +160,31 @@ impl Scene {
             camera,
             tx_elevation,
             rx_elevation,
+            calibration_file: calibration_file.map(|c| dir.join(c)),
         })
     }
 }
 
-/// Every key of a `[radar]` table: bundle.md's, and the README's elevation extension.
-pub const RADAR_KEYS: [&str; 15] = [
+/// The file name `key`, which must name a file inside the bundle folder.
+fn inside_name<'a>(f: &Fields<'a>, key: &str) -> Result<&'a str, InputError> {
+    let name = f.string(key)?;
+    let inside = Path::new(name)
+        .components()
+        .all(|c| matches!(c, std::path::Component::Normal(_)));
+    if name.is_empty() || !inside {
+        return Err(f.error(
+            key,
+            format!(
+                "\"{name}\" must be a file name inside the bundle folder (no `..`, no absolute path)"
+            ),
+        ));
+    }
+    Ok(name)
+}
+
+/// Every key of a `[radar]` table: bundle.md's, and the README's elevation and calibration
+/// extensions.
+pub const RADAR_KEYS: [&str; 16] = [
     "start_frequency_hz",
     "slope_hz_per_s",
     "sample_rate_hz",
@@ -185,6 +200,7 @@ pub const RADAR_KEYS: [&str; 15] = [
     "adc_layout",
     "tx_elevation",
     "rx_elevation",
+    "calibration_file",
 ];
 
 /// Whether `frames` must be given (bundles) or may be derived from the file size (bare captures).

@@ -618,3 +618,135 @@ fn png16_and_depth_read_back_exactly() {
     let cam = open(tmp.path()).unwrap().camera_frame(0).unwrap();
     assert_eq!(cam.depth_m(2, 3), Some(20.0 + 26.0 / 256.0));
 }
+
+/// A calibration for the hand-made board (2 TX × 4 RX, N = 8): gain 2j everywhere and, on
+/// (tx 1, rx 3), `frequency_bins` = `bins`; `skip` leaves one channel out.
+fn calibration_toml(bins: f64, skip: Option<(usize, usize)>) -> String {
+    let mut s = String::from(
+        "format = \"metamoran-calibration/1\"\nslope_hz_per_s = 29.982e12\nsample_rate_hz = 10.0e6\nadc_samples = 8\ntarget_range_m = 5.0\nreference = { tx = 0, rx = 0 }\n",
+    );
+    for t in 0..2 {
+        for r in 0..4 {
+            if skip == Some((t, r)) {
+                continue;
+            }
+            let f = if (t, r) == (1, 3) { bins } else { 0.0 };
+            s.push_str(&format!(
+                "\n[[channels]]\ntx = {t}\nrx = {r}\ngain = [0.0, 2.0]\nfrequency_bins = {f}\n"
+            ));
+        }
+    }
+    s
+}
+
+fn name_calibration(dir: &Path, name: &str) {
+    let scene = SCENE.replace(
+        "adc_layout         = \"dca1000-xwr18xx\"",
+        &format!("adc_layout         = \"dca1000-xwr18xx\"\ncalibration_file = \"{name}\""),
+    );
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+}
+
+#[test]
+fn a_named_calibration_is_applied_to_every_frame() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    name_calibration(tmp.path(), "cal.toml");
+    // Two bins on (tx 1, rx 3) of an 8-sample chirp: sample n turns by j^n.
+    std::fs::write(tmp.path().join("cal.toml"), calibration_toml(2.0, None)).unwrap();
+    let mut b = open(tmp.path()).unwrap();
+    let mut s = Vec::new();
+    for f in 0..2 {
+        b.read_radar_frame(f, &mut s).unwrap();
+        for (k, z) in s.iter().enumerate() {
+            let (re, im) = iq(f as usize * PER_FRAME + k);
+            // Gains are normalized by the largest (2): j·x.
+            let (mut wr, mut wi) = (-i32::from(im), i32::from(re));
+            // Chirp c, RX r: row k / 8; slot c % 2 is TX c % 2.
+            let (row, n) = (k / 8, k % 8);
+            if (row / 4) % 2 == 1 && row % 4 == 3 {
+                for _ in 0..n % 4 {
+                    (wr, wi) = (-wi, wr);
+                }
+            }
+            let err = (i32::from(z.re.0) - wr)
+                .abs()
+                .max((i32::from(z.im.0) - wi).abs());
+            assert!(err <= 1, "frame {f} sample {k}: {z:?} vs ({wr}, {wi})");
+        }
+    }
+}
+
+#[test]
+fn a_calibration_that_does_not_fit_is_refused_by_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    name_calibration(tmp.path(), "../cal.toml");
+    let e = open(tmp.path()).unwrap_err();
+    assert!(
+        e.contains("radar.calibration_file") && e.contains("inside the bundle"),
+        "{e}"
+    );
+    name_calibration(tmp.path(), "cal.toml");
+    let cases = [
+        (calibration_toml(0.0, Some((1, 2))), "(tx 1, rx 2)"),
+        (calibration_toml(4.5, None), "frequency_bins"),
+        (
+            calibration_toml(0.0, None).replace("rx = 3\n", "rx = 4\n"),
+            "not on this board",
+        ),
+        (
+            calibration_toml(0.0, None).replace("tx = 1\nrx = 3", "tx = 1\nrx = 2"),
+            "appears twice",
+        ),
+        (
+            calibration_toml(0.0, None).replacen("[0.0, 2.0]", "[nan, 2.0]", 1),
+            "channels[0].gain",
+        ),
+        (
+            calibration_toml(0.0, None).replacen("[0.0, 2.0]", "[0.0, 0.0]", 1),
+            "dead channel",
+        ),
+        (
+            calibration_toml(0.0, None).replace("adc_samples = 8", "adc_sample = 8"),
+            "adc_sample",
+        ),
+        (
+            calibration_toml(0.0, None).replace("calibration/1", "calibration/2"),
+            "format",
+        ),
+    ];
+    for (text, needle) in cases {
+        std::fs::write(tmp.path().join("cal.toml"), &text).unwrap();
+        let e = open(tmp.path()).unwrap_err();
+        assert!(
+            e.contains("cal.toml") && e.contains(needle),
+            "{needle}: {e}"
+        );
+    }
+    std::fs::remove_file(tmp.path().join("cal.toml")).unwrap();
+    let e = open(tmp.path()).unwrap_err();
+    assert!(e.contains("cal.toml"), "{e}");
+}
+
+#[test]
+fn frequency_corrections_follow_the_chirp_they_are_applied_to() {
+    use metamoran_bundle::calibration::CalibrationFile;
+    use metamoran_dsp::trig::Phase;
+    let path = Path::new("cal.toml");
+    let file = CalibrationFile::parse(path, &calibration_toml(0.25, None)).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    let mut config = Bundle::open(tmp.path(), OpenOptions::iq(IqOrder::Iiqq))
+        .unwrap()
+        .scene
+        .radar;
+    // A delay makes a beat frequency S·τ: twice the slope, half the sample rate and twice the
+    // samples give 8× the bins, in a transform of 16: 2 bins of 16 = 1/8 turn per sample.
+    config.slope_hz_per_s *= 2.0;
+    config.sample_rate_hz /= 2.0;
+    config.adc_samples = 16;
+    let cal = file.for_config(path, &config).unwrap();
+    assert_eq!(cal.get(1, 3).unwrap().step, Phase::from_turns(2.0 / 16.0));
+    assert_eq!(cal.get(0, 0).unwrap().step, Phase(0));
+}

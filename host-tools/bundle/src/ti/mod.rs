@@ -6,6 +6,7 @@
 
 pub mod board;
 pub mod cfg;
+pub mod mat;
 pub mod studio;
 
 pub use board::{Antenna, Board, UnknownBoard};
