@@ -39,7 +39,7 @@ fn point_reflectors_come_back_where_they_are() {
         })
         .collect();
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
-    let bytes = synthesize(&config, &echoes, &elevation, &mut rng);
+    let bytes = synthesize(&config, &echoes, &elevation, None, &mut rng);
     let mut samples = vec![CQ15::default(); config.samples_per_frame()];
     deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut samples).unwrap();
     let mut proc = FrameProcessor::new(

@@ -16,7 +16,13 @@ fn frame(
     echo: Echo,
 ) -> (metamoran_dsp::config::RadarConfig, Vec<CQ15>) {
     let c = config(kind, 59.4, loops);
-    let bytes = synthesize(&c, &[echo], &[], &mut rand_pcg::Pcg64Mcg::seed_from_u64(5));
+    let bytes = synthesize(
+        &c,
+        &[echo],
+        &[],
+        None,
+        &mut rand_pcg::Pcg64Mcg::seed_from_u64(5),
+    );
     let mut s = vec![CQ15::default(); c.samples_per_frame()];
     deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut s).unwrap();
     (c, s)

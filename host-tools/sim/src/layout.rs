@@ -29,7 +29,15 @@ pub enum Preset {
     /// traffic, 20 frames at 10 Hz, with an elevated TX (xWR1843-like board whatever `--radar`
     /// says): dense radar mapping's scenes. Ego pose and velocity in truth.json.
     Drive,
+    /// A calibration capture (TI's procedure, Metamoran §V): a corner reflector on a thin
+    /// mast 5 m away on boresight at the radar's height, over the ground and nothing else.
+    Corner,
 }
+
+/// Range of the [`Preset::Corner`] reflector, m.
+pub const CORNER_RANGE_M: f64 = 5.0;
+/// Radar cross-section of that reflector, m² (a 10 cm trihedral at 77 GHz is about 10 dBsm).
+pub const CORNER_RCS_M2: f64 = 10.0;
 
 impl Preset {
     /// Name used in bundle names.
@@ -40,6 +48,7 @@ impl Preset {
             Preset::Moving => "moving",
             Preset::Perimeter => "perimeter",
             Preset::Drive => "drive",
+            Preset::Corner => "corner",
         }
     }
 }
@@ -242,7 +251,9 @@ fn interest(
         _ => "sign",
     };
     let range = match (preset, class) {
-        (Preset::ParkingLot | Preset::Perimeter | Preset::Drive, _) => rng.random_range(3.0..60.0),
+        (Preset::ParkingLot | Preset::Perimeter | Preset::Drive | Preset::Corner, _) => {
+            rng.random_range(3.0..60.0)
+        }
         (Preset::LongRange, _) => rng.random_range(10.0..90.0),
         (Preset::Moving, "person") => rng.random_range(20.0..150.0),
         (Preset::Moving, _) => rng.random_range(20.0..300.0),
@@ -266,6 +277,9 @@ pub fn draw(
 ) -> (Layout, f64) {
     if preset == Preset::Perimeter {
         return perimeter(rng, max_range);
+    }
+    if preset == Preset::Corner {
+        return corner(rng);
     }
     let count = if rng.random_range(0.0..1.0) < 0.3 {
         2
@@ -299,6 +313,32 @@ pub fn draw(
         frame_period_s: 0.1,
     };
     (layout, deepest)
+}
+
+/// The corner preset: one reflector on boresight.
+fn corner(rng: &mut impl Rng) -> (Layout, f64) {
+    let shape = Shape::Cylinder {
+        centre: [0.0, CORNER_RANGE_M],
+        radius: 0.05,
+        y_top: -0.1,
+        y_bottom: GROUND_Y,
+    };
+    let mut scatterers = vec![object::scatterer(0.0, 0.0, CORNER_RANGE_M, CORNER_RCS_M2)];
+    object::random_phases(rng, &mut scatterers);
+    let reflector = SceneObject {
+        id: 1,
+        class: "pole",
+        shape,
+        velocity: [0.0; 2],
+        scatterers,
+    };
+    let layout = Layout {
+        objects: vec![reflector],
+        paths: Vec::new(),
+        frames: 1,
+        frame_period_s: 0.1,
+    };
+    (layout, CORNER_RANGE_M)
 }
 
 /// The perimeter preset: a parked car in the far lot and a scripted walker at the gate.

@@ -128,20 +128,48 @@ pub enum Difficulty {
     Hard,
 }
 
+/// The range bin that sizes a board's channel delays: that of its 59.4 m chirp (the parking
+/// lot's), m.
+pub fn board_bin_m(kind: RadarKind) -> f64 {
+    let c = radar::config(kind, 59.4, 2);
+    f64::from(c.range_bin_size(usize::from(c.adc_samples)))
+}
+
+/// How a run's scenes differ from the presets as they were.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Variant {
+    /// Scene difficulty.
+    pub difficulty: Difficulty,
+    /// A seeded board's channel errors ([`signal::ChannelErrors::draw`], delays sized by
+    /// [`board_bin_m`]); `None`: a perfect array.
+    pub board: Option<u64>,
+}
+
+impl From<Difficulty> for Variant {
+    fn from(difficulty: Difficulty) -> Self {
+        Self {
+            difficulty,
+            board: None,
+        }
+    }
+}
+
 /// Simulates scene `index` of a run with seed `seed`: every frame of its layout (one, except
 /// for the perimeter preset), objects moved along their paths or velocities between frames.
 pub fn simulate_scene(preset: Preset, kind: RadarKind, seed: u64, index: u64) -> SimulatedScene {
     simulate_scene_with(preset, kind, Difficulty::Standard, seed, index)
 }
 
-/// [`simulate_scene`] at `difficulty` (the drive and perimeter presets have one difficulty).
+/// [`simulate_scene`] as `variant` says (the drive and perimeter presets have one difficulty;
+/// the drive preset's board is always perfect).
 pub fn simulate_scene_with(
     preset: Preset,
     kind: RadarKind,
-    difficulty: Difficulty,
+    variant: impl Into<Variant>,
     seed: u64,
     index: u64,
 ) -> SimulatedScene {
+    let Variant { difficulty, board } = variant.into();
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     if preset == Preset::Drive {
         return drive_scene(&mut rng);
@@ -167,6 +195,10 @@ pub fn simulate_scene_with(
         .collect();
     config.frames = u32::from(layout.frames);
     config.frame_period_s = layout.frame_period_s;
+    let errors = board.map(|b| {
+        let (tx, rx) = (config.tx_positions.len(), config.rx_count());
+        signal::ChannelErrors::draw(b, tx, rx, board_bin_m(kind))
+    });
     let extra = ground(&mut rng, config.max_range() as f64);
     let camera = camera_config();
     let model = CameraModel::new(&camera);
@@ -177,7 +209,13 @@ pub fn simulate_scene_with(
         let t = f64::from(f) * layout.frame_period_s;
         let objects = motion::at(&layout.objects, &layout.paths, t);
         let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
-        adc.extend(signal::synthesize(&config, &echoes, &elevation, &mut rng));
+        adc.extend(signal::synthesize(
+            &config,
+            &echoes,
+            &elevation,
+            errors.as_ref(),
+            &mut rng,
+        ));
         let (shot, truth_objects) = film(&objects, &model, &camera, difficulty, &mut rng);
         frames.push(TruthFrame {
             frame: u32::from(f),
@@ -285,7 +323,7 @@ fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
         let mut all = objects.clone();
         all.push(ground_here);
         let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
-        adc.extend(signal::synthesize(&config, &echoes, &elevation, rng));
+        adc.extend(signal::synthesize(&config, &echoes, &elevation, None, rng));
         let (shot, truth_objects) = film(&objects, &model, &camera, Difficulty::Standard, rng);
         lidar.push(metamoran_bundle::lidar::scan(|d| {
             let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
@@ -377,19 +415,19 @@ pub fn simulate_one(
     simulate_one_with(preset, kind, Difficulty::Standard, seed, index, dir)
 }
 
-/// [`simulate_one`] at `difficulty`.
+/// [`simulate_one`] as `variant` says.
 ///
 /// # Errors
 /// [`SimError`] naming the file that could not be written.
 pub fn simulate_one_with(
     preset: Preset,
     kind: RadarKind,
-    difficulty: Difficulty,
+    variant: impl Into<Variant>,
     seed: u64,
     index: u64,
     dir: &Path,
 ) -> Result<(), SimError> {
-    let s = simulate_scene_with(preset, kind, difficulty, seed, index);
+    let s = simulate_scene_with(preset, kind, variant, seed, index);
     let name = dir
         .file_name()
         .map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
@@ -425,14 +463,15 @@ pub fn simulate(
     simulate_with(preset, kind, Difficulty::Standard, seed, count, out, done)
 }
 
-/// [`simulate`] at `difficulty`; hard scenes go to `out/<preset>-hard-<seed>-<index>`.
+/// [`simulate`] as `variant` says; hard scenes go to `out/<preset>-hard-<seed>-<index>`, scenes
+/// on an imperfect board to `out/<preset>-board<B>-<seed>-<index>`.
 ///
 /// # Errors
 /// The first scene that could not be written.
 pub fn simulate_with(
     preset: Preset,
     kind: RadarKind,
-    difficulty: Difficulty,
+    variant: impl Into<Variant>,
     seed: u64,
     count: u64,
     out: &Path,
@@ -442,15 +481,19 @@ pub fn simulate_with(
         path: out.to_owned(),
         source: e.into(),
     })?;
-    let tag = match difficulty {
-        Difficulty::Standard => "",
-        Difficulty::Hard => "-hard",
+    let variant = variant.into();
+    let mut tag = match variant.difficulty {
+        Difficulty::Standard => String::new(),
+        Difficulty::Hard => "-hard".to_owned(),
     };
+    if let Some(b) = variant.board {
+        tag.push_str(&format!("-board{b}"));
+    }
     let dirs: Vec<PathBuf> = (0..count)
         .map(|k| out.join(format!("{}{tag}-{seed}-{k:04}", preset.name())))
         .collect();
     dirs.par_iter().enumerate().try_for_each(|(k, dir)| {
-        let r = simulate_one_with(preset, kind, difficulty, seed, k as u64, dir);
+        let r = simulate_one_with(preset, kind, variant, seed, k as u64, dir);
         done();
         r
     })?;

@@ -72,7 +72,7 @@ impl SceneObject {
 }
 
 /// A scatterer with phase 0 ([`random_phases`] draws them once an object is complete).
-fn scatterer(x: f64, y: f64, z: f64, rcs: f64) -> Scatterer {
+pub(crate) fn scatterer(x: f64, y: f64, z: f64, rcs: f64) -> Scatterer {
     Scatterer {
         position: Vector3::new(x, y, z),
         rcs,

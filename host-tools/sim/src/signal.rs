@@ -105,13 +105,54 @@ pub fn echoes(
     out
 }
 
+/// A board's channel errors (issue #19): each (TX, RX) pair's received signal is multiplied by
+/// a complex gain and delayed by a few centimetres of extra path, as the traces and mixers of a
+/// real cascade do. What `metamoran calibrate` measures and undoes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChannelErrors {
+    /// Receivers per TX (the row length of `errors`).
+    pub rx: usize,
+    /// Per (TX, RX), TX-major: (complex gain (re, im), extra range in m). A range offset `ΔR`
+    /// shifts the beat frequency by `2·S·ΔR/c`, so its size in range bins depends on the
+    /// chirp; in metres it is the board's, whatever chirp a scene uses.
+    pub errors: Vec<((f64, f64), f64)>,
+}
+
+impl ChannelErrors {
+    /// Board `seed`'s errors for `tx × rx` channels: phase uniform in ±180°, gain uniform in
+    /// ±3 dB, range offset uniform in ±0.5 of `bin_m` (the issue's figures, for a chirp whose
+    /// range bin is `bin_m`).
+    pub fn draw(seed: u64, tx: usize, rx: usize, bin_m: f64) -> Self {
+        use rand::SeedableRng;
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed ^ 0xB0A2_D5EE_D000_0019);
+        let errors = (0..tx * rx)
+            .map(|_| {
+                let phase = rng.random_range(-PI..PI);
+                let gain = 10f64.powf(rng.random_range(-3.0..3.0) / 20.0);
+                let delay = rng.random_range(-0.5..0.5) * bin_m;
+                ((gain * phase.cos(), gain * phase.sin()), delay)
+            })
+            .collect();
+        Self { rx, errors }
+    }
+
+    /// Channel `(tx, rx)`'s error, if drawn.
+    pub fn get(&self, tx: usize, rx: usize) -> Option<((f64, f64), f64)> {
+        (rx < self.rx)
+            .then(|| self.errors.get(tx * self.rx + rx).copied())
+            .flatten()
+    }
+}
+
 /// Synthesizes one frame of `config` as DCA1000 xWR18xx bytes (IIQQ, `[chirp][rx][sample]`).
 /// `elevation` gives each virtual channel's elevation in half-wavelengths (empty: all 0), which
-/// adds `exp(jπ·e·sin φ)` for an echo at elevation φ.
+/// adds `exp(jπ·e·sin φ)` for an echo at elevation φ; `errors` the board's channel errors
+/// (applied before the noise, which is the receiver's own).
 pub fn synthesize(
     config: &RadarConfig,
     echoes: &[Echo],
     elevation: &[i16],
+    errors: Option<&ChannelErrors>,
     rng: &mut impl Rng,
 ) -> Vec<u8> {
     let (n, rx, slots, loops) = (
@@ -160,6 +201,23 @@ pub fn synthesize(
         }
     }
     let ramps: Vec<Vec<(f32, f32)>> = moving.iter().map(|e| ramp(e)).collect();
+    // Each channel's error as a per-sample factor.
+    let distort: Vec<Option<Vec<(f32, f32)>>> = (0..channels)
+        .map(|ch| {
+            let tx = usize::from(config.tx_order[ch / rx]);
+            let ((gr, gi), offset_m) = errors?.get(tx, ch % rx)?;
+            let w = 2.0 * PI * (2.0 * config.slope_hz_per_s * offset_m / SPEED_OF_LIGHT)
+                / config.sample_rate_hz;
+            Some(
+                (0..n)
+                    .map(|k| {
+                        let (s, c) = (w * k as f64).sin_cos();
+                        ((gr * c - gi * s) as f32, (gr * s + gi * c) as f32)
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
     let mut bytes = Vec::with_capacity(loops * channels * n * 4);
     let mut row = vec![(0f32, 0f32); n];
     for lp in 0..loops {
@@ -170,6 +228,11 @@ pub fn synthesize(
                 row.copy_from_slice(&base[ch * n..(ch + 1) * n]);
                 for (e, r) in moving.iter().zip(&ramps) {
                     add(&mut row, e, r, ch, 4.0 * PI * e.velocity * t / lambda);
+                }
+                if let Some(d) = &distort[ch] {
+                    for (o, &(dr, di)) in row.iter_mut().zip(d) {
+                        *o = (o.0 * dr - o.1 * di, o.0 * di + o.1 * dr);
+                    }
                 }
                 let mut q = |v: f32| {
                     let noise: f64 = rng.sample(StandardNormal);
