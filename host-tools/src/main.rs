@@ -5,8 +5,8 @@ mod commands;
 
 use clap::{Parser, Subcommand};
 use commands::{
-    args::Locations, bench, dca1000_emulate, demo, demo_capture, eval, inspect, map, odometry,
-    process, provision, record, simulate, summarize,
+    args::Locations, bench, calibrate, dca1000_emulate, demo, demo_capture, eval, inspect, map,
+    odometry, process, provision, record, simulate, summarize,
 };
 use std::process::ExitCode;
 
@@ -23,6 +23,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Summarize(summarize::Args),
+    Calibrate(calibrate::Args),
     Process(process::Args),
     Inspect(inspect::Args),
     Odometry(odometry::Args),
@@ -43,6 +44,7 @@ fn run(cli: &Cli) -> commands::Result {
     let at = &cli.locations;
     match &cli.command {
         Command::Summarize(a) => summarize::run(a),
+        Command::Calibrate(a) => calibrate::run(a),
         Command::Process(a) => process::run(a, at),
         Command::Inspect(a) => inspect::run(a),
         Command::Odometry(a) => odometry::run(a),

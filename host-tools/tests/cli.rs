@@ -213,3 +213,73 @@ fn map_json_has_the_issue_keys_and_writes_images_and_clouds() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("no-such-bundle"), "{}", stderr(&o));
 }
+
+#[test]
+fn calibrate_json_is_exactly_the_issue_shape_and_the_file_applies() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().to_str().unwrap();
+    let o = metamoran(&[
+        "simulate", "--preset", "corner", "--radar", "xwr18xx", "--board", "3", "--seed", "1",
+        "--out", out,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let corner = tmp.path().join("corner-board3-1-0000");
+    let cal = tmp.path().join("board3.toml");
+    let o = metamoran(&[
+        "calibrate",
+        corner.to_str().unwrap(),
+        "--out",
+        cal.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let keys = |v: &serde_json::Value| {
+        let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+        k.sort();
+        k
+    };
+    assert_eq!(keys(&v), ["channels", "reference", "target_range_m"]);
+    assert_eq!(keys(&v["reference"]), ["rx", "tx"]);
+    assert!((v["target_range_m"].as_f64().unwrap() - 5.0).abs() < 0.1);
+    let channels = v["channels"].as_array().unwrap();
+    // 2 TX × 4 RX, each pair once.
+    assert_eq!(channels.len(), 8);
+    let mut pairs: Vec<(u64, u64)> = channels
+        .iter()
+        .map(|c| {
+            assert_eq!(keys(c), ["frequency_bins", "gain", "rx", "tx"]);
+            assert_eq!(c["gain"].as_array().unwrap().len(), 2);
+            (c["tx"].as_u64().unwrap(), c["rx"].as_u64().unwrap())
+        })
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    assert_eq!(pairs.len(), 8);
+    // The bundle that names the file is read calibrated: its summary finds the reflector as
+    // strong on every channel, so the calibration file is accepted by the reader.
+    std::fs::copy(&cal, corner.join("calibration.toml")).unwrap();
+    let scene = std::fs::read_to_string(corner.join("scene.toml")).unwrap();
+    let named = scene.replacen(
+        "adc_layout",
+        "calibration_file = \"calibration.toml\"\nadc_layout",
+        1,
+    );
+    std::fs::write(corner.join("scene.toml"), named).unwrap();
+    let o = metamoran(&["summarize", corner.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A module run refuses what it cannot apply, by name.
+    let o = metamoran(&[
+        "process",
+        corner.to_str().unwrap(),
+        "--mode",
+        "metamoran",
+        "--edge",
+        "qemu",
+    ]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("calibration"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -55,9 +55,17 @@ pub enum ProcessError {
     Channel,
     /// `--edge qemu` with a capture in QQII order.
     #[error(
-        "--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or process it in process"
+        "--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or use --edge in-process"
     )]
     IqOrder,
+    /// The bundle names a calibration the module cannot apply yet.
+    #[error(
+        "--edge qemu: the bundle names a calibration_file, and the module does not apply channel calibration yet (issue #19); use --edge in-process"
+    )]
+    ModuleCalibration,
+    /// No calibration from this capture.
+    #[error(transparent)]
+    Calibration(#[from] crate::calibrate::CalibrateError),
     /// A frame number past the bundle's end.
     #[error("frame {frame}: the bundle has {frames} frames (use --frame 0..{})", frames.saturating_sub(1))]
     NoFrame {

@@ -8,6 +8,7 @@
 //! [`inspect`] shows what the search saw, [`eval`] scores methods against the truth and
 //! [`summary`] describes a bare capture.
 
+pub mod calibrate;
 pub mod camera_points;
 mod error;
 pub mod eval;
@@ -396,6 +397,9 @@ fn start_module(bundle: &Bundle, options: &ProcessOptions) -> Result<Option<Modu
     };
     if options.open.iq_order != metamoran_dsp::capture::IqOrder::Iiqq {
         return Err(ProcessError::IqOrder);
+    }
+    if bundle.scene.calibration_file.is_some() {
+        return Err(ProcessError::ModuleCalibration);
     }
     // The module reads one file in radar.bin's layout: an MMWCAS capture is copied into one.
     let copy = match bundle.scene.layout {

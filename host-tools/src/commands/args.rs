@@ -84,6 +84,8 @@ pub enum PresetArg {
     /// The radar on a vehicle driving down a street, 20 frames at 10 Hz, with an elevated TX:
     /// dense radar mapping's scenes.
     Drive,
+    /// A calibration capture: a corner reflector at 5 m on boresight (for `calibrate`).
+    Corner,
 }
 
 impl From<PresetArg> for metamoran_sim::layout::Preset {
@@ -94,6 +96,7 @@ impl From<PresetArg> for metamoran_sim::layout::Preset {
             PresetArg::Moving => Self::Moving,
             PresetArg::Perimeter => Self::Perimeter,
             PresetArg::Drive => Self::Drive,
+            PresetArg::Corner => Self::Corner,
         }
     }
 }
@@ -201,5 +204,54 @@ impl Locations {
                 "the firmware sources were not found: give --firmware DIR (the firmware/ folder of a Metamoran checkout) or set METAMORAN_FIRMWARE"
                     .to_owned()
             })
+    }
+}
+
+/// How to read a capture given on the command line: a bundle folder, or a bare DCA1000 `.bin`
+/// with its radar config (shared by the commands that read one).
+#[derive(clap::Args, Clone, Debug)]
+pub struct CaptureArgs {
+    /// Radar config of a bare .bin: a TOML `[radar]` table as in scene.toml, an mmWave SDK .cfg
+    /// or an mmWave Studio .mmwave.json.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// The TI board a .cfg or .mmwave.json configures (its antenna layout).
+    #[arg(long, value_enum)]
+    pub board: Option<BoardArg>,
+    /// I/Q order of the samples [default: what a TI config sets, else iiqq].
+    #[arg(long, value_enum)]
+    pub iq_order: Option<IqArg>,
+}
+
+impl CaptureArgs {
+    /// Opens `path`: a bare capture with `--config`, else the radar file of a bundle folder
+    /// (the bundle checked, its calibration applied).
+    ///
+    /// # Errors
+    /// A message naming the file when it is missing or does not fit its config.
+    pub fn open(&self, path: &std::path::Path) -> Result<metamoran_bundle::RadarFile, String> {
+        if !path.exists() {
+            return Err(format!(
+                "{}: no such file or folder; give a bundle folder or a DCA1000 .bin",
+                path.display()
+            ));
+        }
+        let order = self.iq_order.map(IqOrder::from);
+        match &self.config {
+            Some(cfg) => {
+                metamoran_bundle::capture::open_bare(path, cfg, order, self.board.map(Into::into))
+                    .map_err(|e| e.to_string())
+            }
+            None if path.is_dir() => {
+                let open = OpenOptions::iq(order.unwrap_or_default());
+                let bundle =
+                    metamoran_bundle::Bundle::open(path, open).map_err(|e| e.to_string())?;
+                Ok(bundle.into_radar())
+            }
+            None => Err(format!(
+                "{}: a bare capture needs its radar config: add --config radar.toml (a [radar] table as in scene.toml), an mmWave SDK .cfg or an mmWave Studio .mmwave.json",
+                path.display()
+            )),
+        }
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod calibrate;
 pub mod dca1000_emulate;
 pub mod demo;
 pub mod demo_capture;

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)"
+    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)"
 )]
 pub struct Args {
     /// Scene preset.
@@ -31,6 +31,11 @@ pub struct Args {
     /// gives the standard scenes.
     #[arg(long)]
     hard: bool,
+    /// A seeded imperfect board (issue #19): each (TX, RX) channel gets a phase uniform in
+    /// ±180°, a gain in ±3 dB and a delay in ±0.5 range bin, the same for every scene of the
+    /// same board. Scenes go to OUT/<preset>-board<B>-<seed>-<index>.
+    #[arg(long, value_name = "B")]
+    board: Option<u64>,
 }
 
 /// Runs `metamoran simulate`.
@@ -46,10 +51,14 @@ pub fn run(args: &Args) -> super::Result {
     } else {
         metamoran_sim::Difficulty::Standard
     };
+    let variant = metamoran_sim::Variant {
+        difficulty,
+        board: args.board,
+    };
     let dirs = metamoran_sim::simulate_with(
         preset,
         args.radar.into(),
-        difficulty,
+        variant,
         args.seed,
         args.count,
         &args.out,
