@@ -12,6 +12,7 @@ mod app {
     use firmware::workload::{noise_q15, noise_q31};
     use metamoran_dsp::fft::{Complex32, cfft_f32, cfft_q15, cfft_q31};
     use metamoran_dsp::fixed::{CQ15, CQ31, Q15};
+    use metamoran_dsp::range::calibration::{Calibration, Correction};
 
     firmware::hard_fault_exits!();
 
@@ -61,6 +62,22 @@ mod app {
             });
             report("microfft_f32", n, ticks);
         }
+        // The range stage's channel calibration (issue #19): one 512-sample chirp of one
+        // channel with a gain and a frequency correction, the per-row cost a calibrated frame
+        // would add.
+        let Ok(mut cal) = Calibration::identity(12, 16) else {
+            firmware::board::exit(false)
+        };
+        let _ = cal.set(3, 5, Correction::from_f64((0.8, -0.6), 0.37, 512));
+        let applied = cal.normalized();
+        let mut out = [CQ15::default(); 512];
+        let ticks = best(&timer, |t| {
+            noise_q15(1, Q15(8192), &mut q15[..512]);
+            t.ticks(|| {
+                let _ = applied.apply(3, 5, core::hint::black_box(&q15[..512]), &mut out);
+            })
+        });
+        report("calibration_q15", 512, ticks);
         hprintln!("ICOUNT done");
         firmware::board::exit(true)
     }

@@ -4,6 +4,7 @@
 //! guest instruction advances virtual time by exactly 1 ns; CMSDK timer 0 counts down at 25 MHz,
 //! i.e. one tick per 40 instructions. The firmware reads the timer around each FFT call and
 //! subtracts an empty measurement. Counts are deterministic (±40 instructions of quantization).
+//! The same run counts the channel calibration of one 512-sample chirp (`calibration_q15`).
 
 use metamoran_edge::qemu;
 use serde::Serialize;
@@ -20,7 +21,8 @@ pub const CMSIS_ANCHORS: [(&str, usize, u64); 4] = [
 /// One measured FFT.
 #[derive(Clone, Debug, Serialize)]
 pub struct M7Row {
-    /// Implementation (`q15`, `q31`, `microfft_f32`).
+    /// Implementation (`q15`, `q31`, `microfft_f32`; `calibration_q15` is the range stage's
+    /// channel calibration of one chirp, not an FFT).
     #[serde(rename = "impl")]
     pub implementation: String,
     /// FFT length.
