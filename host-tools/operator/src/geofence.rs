@@ -757,13 +757,29 @@ mod tests {
         assert!(e.contains("cross"), "{e}");
         let e = zone("[[0.0, 0.0], [4.0, 0.0], [6.0, 0.0]]").unwrap_err();
         assert!(e.contains("cross"), "{e}");
-        // The same along a diagonal, where both coordinates enter the fold test.
+        // The same along a diagonal, where both coordinates enter the fold test, and along
+        // the z axis, where one of them is zero.
         for folded in [
             "[[0.0, 0.0], [4.0, 4.0], [2.0, 2.0]]",
             "[[0.0, 0.0], [4.0, 2.0], [-2.0, -1.0]]",
+            "[[0.0, 0.0], [0.0, 4.0], [0.0, 2.0]]",
         ] {
             let e = zone(folded).unwrap_err();
             assert!(e.contains("cross"), "{folded}: {e}");
+        }
+        // Straight-through corners on steep and shallow lines, short edge in and long edge out
+        // (exactly collinear in binary: slopes of 1/8 and 8). The fold test's dot product is
+        // negative there; a mis-signed or mis-combined term makes it positive and refuses a
+        // valid zone.
+        for straight in [
+            // Shallow: (1, 0.875) → (2, 1) → (12, 2.25).
+            "[[1.0, 0.875], [2.0, 1.0], [12.0, 2.25], [12.0, 8.0], [1.0, 8.0]]",
+            // Steep through (2, 1): (1.875, 0) → (2, 1) → (3.25, 11).
+            "[[1.875, 0.0], [2.0, 1.0], [3.25, 11.0], [-4.0, 11.0], [-4.0, 0.0]]",
+            // Steep through (2, −20): (1.875, −21) → (2, −20) → (3.25, −10).
+            "[[1.875, -21.0], [2.0, -20.0], [3.25, -10.0], [-4.0, -10.0], [-4.0, -21.0]]",
+        ] {
+            zone(straight).unwrap_or_else(|e| panic!("{straight}: {e}"));
         }
     }
 
