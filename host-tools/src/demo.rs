@@ -68,6 +68,10 @@ pub struct DemoReport {
     pub link: Option<String>,
     /// What went to the MQTT broker, if one was given.
     pub mqtt: Option<String>,
+    /// Where the radar samples came from when not the simulated capture: the live stream and
+    /// what arrived.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radar: Option<String>,
     /// Frames that could not be processed, and why the run stopped early, if it did.
     pub faults: Option<String>,
     /// Files written, relative to `out`.
@@ -83,6 +87,9 @@ impl fmt::Display for DemoReport {
             self.frames,
             self.edge
         )?;
+        if let Some(radar) = &self.radar {
+            writeln!(f, "radar: {radar}")?;
+        }
         writeln!(f, "\nobjects of the last frame:")?;
         writeln!(
             f,
@@ -242,6 +249,10 @@ pub struct DemoOptions {
     /// Deliver the frames at the scene's frame rate (as a sensor would) even without the live
     /// view.
     pub realtime: bool,
+    /// Take the radar samples from this live DCA1000 stream instead of the simulated capture
+    /// (the scene's camera products stay): a board replaying the scene, or
+    /// `metamoran dca1000-emulate` sending its `radar.bin`.
+    pub dca1000: Option<crate::live::Link>,
 }
 
 /// Runs the demo into `out` (created; its earlier demo files are replaced).
@@ -256,6 +267,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         mqtt,
         live,
         realtime,
+        dca1000,
     } = options;
     let (edge, perimeter, mqtt, live) = (*edge, perimeter.as_deref(), mqtt.as_ref(), *live);
     let realtime = *realtime;
@@ -264,7 +276,13 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     let perimeter = install_perimeter(out, perimeter)?;
     let (preset, _, _) = SCENE;
     let bundle = &simulate_scene(out)?;
-    let opts = OpenOptions::default();
+    let mut opts = OpenOptions::default();
+    // Kept while the bundle is read: the recorded stream is removed when dropped.
+    let stream = dca1000
+        .as_ref()
+        .map(|link| link.capture_for(bundle))
+        .transpose()?;
+    opts.capture = stream.as_ref().map(|s| s.capture.clone());
     // The bundle the module will process: its frame period and camera.
     let scene = metamoran_bundle::Bundle::open(bundle, opts.clone())
         .map_err(|e| e.to_string())?
@@ -369,6 +387,20 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         alerts,
         link,
         mqtt: published,
+        radar: stream.as_ref().zip(dca1000.as_ref()).map(|(s, link)| {
+            let (r, a) = (&s.recording, s.recording.counters.assembly);
+            format!(
+                "DCA1000 stream on {}: {} frame(s) received, {} not whole (skipped); {} \
+                 packet(s), {} lost, {} reordered, {} duplicate(s)",
+                link.addr,
+                r.frames,
+                s.capture.incomplete.len(),
+                a.packets,
+                a.lost(),
+                a.reordered,
+                a.duplicates
+            )
+        }),
         faults: output.faults(),
         files,
     };

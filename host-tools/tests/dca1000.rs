@@ -1,6 +1,8 @@
-//! `metamoran record` and `summarize --dca1000` against `metamoran dca1000-emulate`, as
-//! processes on loopback (issue #19): the real DCA1000 session replayed is recorded as its
-//! `adc_data.bin`, and a live stream summarizes as its file does.
+//! `metamoran record`, `summarize`, `process`, `inspect` and `demo` with `--dca1000` against
+//! `metamoran dca1000-emulate`, as processes on loopback (issue #19): the real DCA1000 session
+//! replayed is recorded as its `adc_data.bin`; a live stream summarizes, processes, inspects and
+//! runs the demo as its file does; a frame that does not arrive whole is skipped, the others
+//! kept.
 
 use std::net::UdpSocket;
 use std::path::PathBuf;
@@ -28,16 +30,22 @@ fn free_port() -> u16 {
         .port()
 }
 
-/// Runs `listen` (a receiving command) and, once it is up, `send` (an emulator command).
-fn listen_while_sending(listen: &[&str], send: &[&str]) -> Output {
-    let child = Command::new(bin())
+/// Runs `listen` (a receiving command on `port`) and, once it is bound, `send` (an emulator
+/// command).
+fn listen_while_sending(port: u16, listen: &[&str], send: &[&str]) -> Output {
+    let mut child = Command::new(bin())
         .args(listen)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // The receiver binds before it waits (its --start-s); give it a moment.
-    std::thread::sleep(Duration::from_millis(700));
+    let until = std::time::Instant::now() + Duration::from_secs(120);
+    while UdpSocket::bind(("127.0.0.1", port)).is_ok() {
+        if child.try_wait().unwrap().is_some() || std::time::Instant::now() > until {
+            break; // it failed before listening: its output says why
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
     let sent = Command::new(bin()).args(send).output().unwrap();
     assert!(
         sent.status.success(),
@@ -58,6 +66,7 @@ fn record_writes_the_replayed_session_as_its_adc_data() {
         real("test_one_frame.pcap"),
     );
     let o = listen_while_sending(
+        port,
         &[
             "record",
             "--dca1000",
@@ -99,6 +108,7 @@ fn a_live_stream_summarizes_as_its_file() {
         "--json",
     ];
     let o = listen_while_sending(
+        port,
         &[&["summarize", "--dca1000", &to][..], &args].concat(),
         &[
             "dca1000-emulate",
@@ -121,4 +131,340 @@ fn a_live_stream_summarizes_as_its_file() {
     );
     assert_eq!(live["frames"], offline["frames"]);
     assert!(!live["frames"].as_array().unwrap().is_empty());
+}
+
+/// Runs `metamoran ARGS` and returns its output, asserting it succeeded.
+fn run_ok(args: &[&str]) -> Output {
+    let o = Command::new(bin()).args(args).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+/// A simulated 22-frame xWR18xx perimeter bundle in `dir`.
+fn perimeter(dir: &std::path::Path) -> PathBuf {
+    run_ok(&[
+        "simulate",
+        "--preset",
+        "perimeter",
+        "--radar",
+        "xwr18xx",
+        "--seed",
+        "3",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    dir.join("perimeter-3-0000")
+}
+
+/// `metamoran process BUNDLE --json` on the live stream of `capture` sent with `impair`
+/// (emulator flags): the JSON, stderr and whether it succeeded.
+fn process_live(bundle: &str, capture: &str, impair: &[&str]) -> (serde_json::Value, String, bool) {
+    let port = free_port();
+    let to = format!("127.0.0.1:{port}");
+    let o = listen_while_sending(
+        port,
+        &[
+            "process",
+            bundle,
+            "--dca1000",
+            &to,
+            "--idle-s",
+            "0.5",
+            "--json",
+        ],
+        &[
+            &["dca1000-emulate", capture, "--to", &to, "--mbps", "200"][..],
+            impair,
+        ]
+        .concat(),
+    );
+    (
+        serde_json::from_slice(&o.stdout).unwrap(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+        o.status.success(),
+    )
+}
+
+#[test]
+fn process_takes_a_live_stream_as_the_bundles_capture() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundle = perimeter(dir.path());
+    let b = bundle.to_str().unwrap();
+    let radar = bundle.join("radar.bin");
+    let offline: serde_json::Value =
+        serde_json::from_slice(&run_ok(&["process", b, "--json"]).stdout).unwrap();
+    let frames = offline["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 22);
+
+    // Whole: the same JSON as the file, bit for bit.
+    let (live, _, ok) = process_live(b, radar.to_str().unwrap(), &[]);
+    assert!(ok);
+    assert_eq!(live, offline);
+
+    // Lossy: the frames the receiver lists as incomplete are skipped with an error naming them;
+    // every other frame is the file's.
+    let (lossy, err, ok) = process_live(
+        b,
+        radar.to_str().unwrap(),
+        &[
+            "--loss",
+            "0.02",
+            "--reorder",
+            "0.02",
+            "--duplicate",
+            "0.02",
+            "--seed",
+            "5",
+        ],
+    );
+    assert!(!ok, "skipped frames fail the run: {err}");
+    let listed = err
+        .lines()
+        .find_map(|l| l.split_once("frames incomplete (zero-filled): "))
+        .map(|(_, list)| serde_json::from_str::<Vec<u64>>(list).unwrap())
+        .unwrap_or_else(|| panic!("no incomplete frames listed: {err}"));
+    assert!(!listed.is_empty() && listed.len() < 22, "{listed:?}");
+    for (f, (got, want)) in lossy["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(frames)
+        .enumerate()
+    {
+        if listed.contains(&(f as u64)) {
+            let why = got["error"]
+                .as_str()
+                .unwrap_or_else(|| panic!("frame {f}: {got}"));
+            assert!(
+                why.contains(&format!("frame {f} did not arrive whole")),
+                "{why}"
+            );
+            assert!(
+                got["objects"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .all(|o| o["detected"] == false)
+            );
+        } else {
+            assert_eq!(got, want, "frame {f}");
+        }
+    }
+
+    // Cut short after 10 frames: those 10 are the file's, the 12 the stream ended before are
+    // skipped.
+    let short = dir.path().join("ten-frames.bin");
+    let bytes = std::fs::read(&radar).unwrap();
+    std::fs::write(&short, &bytes[..bytes.len() / 22 * 10]).unwrap();
+    let (cut, err, ok) = process_live(b, short.to_str().unwrap(), &[]);
+    assert!(!ok, "{err}");
+    for (f, (got, want)) in cut["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(frames)
+        .enumerate()
+    {
+        if f < 10 {
+            assert_eq!(got, want, "frame {f}");
+        } else {
+            assert!(got["error"].as_str().is_some(), "frame {f}: {got}");
+        }
+    }
+}
+
+#[test]
+fn inspect_takes_a_live_stream_as_the_bundles_capture() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundle = perimeter(dir.path());
+    let (b, radar) = (bundle.to_str().unwrap(), bundle.join("radar.bin"));
+    let (file_out, live_out) = (dir.path().join("file-plots"), dir.path().join("live-plots"));
+    let args = |out: &PathBuf| {
+        [
+            "inspect",
+            b,
+            "--frame",
+            "7",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .map(str::to_owned)
+        .to_vec()
+    };
+    let offline = run_ok(
+        &args(&file_out)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+    );
+    let port = free_port();
+    let to = format!("127.0.0.1:{port}");
+    let mut listen = args(&live_out);
+    listen.extend([
+        "--dca1000".into(),
+        to.clone(),
+        "--idle-s".into(),
+        "0.5".into(),
+    ]);
+    let live = listen_while_sending(
+        port,
+        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
+        &["dca1000-emulate", radar.to_str().unwrap(), "--to", &to],
+    );
+    assert!(
+        live.status.success(),
+        "{}",
+        String::from_utf8_lossy(&live.stderr)
+    );
+    let report = |o: &Output| {
+        let mut v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v.as_object_mut().unwrap().remove("out");
+        v
+    };
+    assert_eq!(report(&live), report(&offline));
+    let plots = |d: &PathBuf| {
+        let mut names: Vec<_> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        names.sort();
+        names
+    };
+    assert!(!plots(&file_out).is_empty());
+    assert_eq!(plots(&live_out), plots(&file_out));
+    for name in plots(&file_out) {
+        assert_eq!(
+            std::fs::read(live_out.join(&name)).unwrap(),
+            std::fs::read(file_out.join(&name)).unwrap(),
+            "{name:?}"
+        );
+    }
+
+    // The stream, not the bundle's file, is what was read: one that ends before frame 7 fails.
+    let short = dir.path().join("five-frames.bin");
+    let bytes = std::fs::read(&radar).unwrap();
+    std::fs::write(&short, &bytes[..bytes.len() / 22 * 5]).unwrap();
+    let port = free_port();
+    let to = format!("127.0.0.1:{port}");
+    let mut listen = args(&dir.path().join("short-plots"));
+    listen.extend([
+        "--dca1000".into(),
+        to.clone(),
+        "--idle-s".into(),
+        "0.5".into(),
+    ]);
+    let cut = listen_while_sending(
+        port,
+        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
+        &["dca1000-emulate", short.to_str().unwrap(), "--to", &to],
+    );
+    assert!(!cut.status.success());
+    let err = String::from_utf8_lossy(&cut.stderr);
+    assert!(err.contains("frame 7 did not arrive whole"), "{err}");
+}
+
+#[test]
+fn the_demo_takes_a_live_stream_as_its_radar() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, second) = (dir.path().join("file"), dir.path().join("live"));
+    let demo = |out: &PathBuf| {
+        [
+            "demo",
+            "--edge",
+            "in-process",
+            "--no-live",
+            "--json",
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .map(str::to_owned)
+        .to_vec()
+    };
+    let offline = run_ok(&demo(&first).iter().map(String::as_str).collect::<Vec<_>>());
+    // The board replays the scene the first run simulated.
+    let scene = first.join("scene/perimeter-3-0000/radar.bin");
+    let capture = dir.path().join("board.bin");
+    std::fs::copy(&scene, &capture).unwrap();
+    let port = free_port();
+    let to = format!("127.0.0.1:{port}");
+    let mut listen = demo(&second);
+    listen.extend([
+        "--dca1000".into(),
+        to.clone(),
+        "--idle-s".into(),
+        "0.5".into(),
+    ]);
+    let live = listen_while_sending(
+        port,
+        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
+        &[
+            "dca1000-emulate",
+            capture.to_str().unwrap(),
+            "--to",
+            &to,
+            "--mbps",
+            "400",
+        ],
+    );
+    assert!(
+        live.status.success(),
+        "{}",
+        String::from_utf8_lossy(&live.stderr)
+    );
+    let (a, b): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_slice(&offline.stdout).unwrap(),
+        serde_json::from_slice(&live.stdout).unwrap(),
+    );
+    for key in ["frames", "tracks", "alerts", "faults"] {
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    assert!(
+        !a["alerts"].as_array().unwrap().is_empty(),
+        "the perimeter scene alerts"
+    );
+    assert!(a.get("radar").is_none());
+    let radar = b["radar"].as_str().unwrap();
+    assert!(
+        radar.contains("22 frame(s) received, 0 not whole"),
+        "{radar}"
+    );
+    assert_eq!(
+        std::fs::read(second.join("results.json")).unwrap(),
+        std::fs::read(first.join("results.json")).unwrap()
+    );
+
+    // The stream, not the simulated file, is what was processed: one that ends after 20
+    // frames has the last two skipped.
+    let bytes = std::fs::read(&capture).unwrap();
+    std::fs::write(&capture, &bytes[..bytes.len() / 22 * 20]).unwrap();
+    let port = free_port();
+    let to = format!("127.0.0.1:{port}");
+    let mut listen = demo(&dir.path().join("short"));
+    listen.extend([
+        "--dca1000".into(),
+        to.clone(),
+        "--idle-s".into(),
+        "0.5".into(),
+    ]);
+    let cut = listen_while_sending(
+        port,
+        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
+        &[
+            "dca1000-emulate",
+            capture.to_str().unwrap(),
+            "--to",
+            &to,
+            "--mbps",
+            "400",
+        ],
+    );
+    let c: serde_json::Value = serde_json::from_slice(&cut.stdout).unwrap_or_default();
+    let faults = c["faults"].as_str().unwrap_or_default();
+    assert!(
+        faults.contains("frame 20 skipped") && faults.contains("frame 21 skipped"),
+        "{c}\n{}",
+        String::from_utf8_lossy(&cut.stderr)
+    );
+    assert!(!faults.contains("frame 19 "), "{faults}");
 }

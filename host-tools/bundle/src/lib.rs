@@ -50,6 +50,20 @@ pub struct OpenOptions {
     /// Models that compute the mask and instances, or the depth, from `camera/F_image.png`
     /// instead of reading them from the bundle.
     pub camera_models: Option<Arc<CameraModels>>,
+    /// Radar samples from elsewhere than `adc_file`: a live stream recorded for this bundle.
+    pub capture: Option<LiveCapture>,
+}
+
+/// A capture that stands in for a bundle's `adc_file`: a live DCA1000 stream recorded in
+/// `radar.bin`'s layout for the bundle's `[radar]` table and frame count, with the frames that
+/// did not arrive whole. The camera products still come from the bundle.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LiveCapture {
+    /// The recorded samples (DCA1000 layout; missing bytes zero).
+    pub file: PathBuf,
+    /// Frames that did not arrive whole: reading one is an error, so it is skipped, never
+    /// processed as if whole.
+    pub incomplete: Vec<u32>,
 }
 
 impl OpenOptions {
@@ -57,7 +71,7 @@ impl OpenOptions {
     pub fn iq(iq_order: IqOrder) -> Self {
         Self {
             iq_order,
-            camera_models: None,
+            ..Self::default()
         }
     }
 }
@@ -115,14 +129,32 @@ impl Bundle {
         let root = dir.canonicalize().map_err(|e| InputError::io(dir, e))?;
         let scene_file = dir.join("scene.toml");
         limits::confined(&root, &scene_file)?;
-        let scene = Scene::read(&scene_file)?;
-        limits::confined(&root, &scene.adc_file)?;
-        let mut radar = RadarFile::open_layout(
-            &scene.adc_file,
-            scene.radar.clone(),
-            options.iq_order,
-            scene.layout,
-        )?;
+        let mut scene = Scene::read(&scene_file)?;
+        let mut radar = match &options.capture {
+            None => {
+                limits::confined(&root, &scene.adc_file)?;
+                RadarFile::open_layout(
+                    &scene.adc_file,
+                    scene.radar.clone(),
+                    options.iq_order,
+                    scene.layout,
+                )?
+            }
+            Some(live) => {
+                if scene.layout != AdcLayout::Dca1000 {
+                    return Err(InputError::file(
+                        &scene_file,
+                        "[radar] adc_layout is an MMWCAS cascade's four device files; a DCA1000 \
+                         streams one device: process the cascade's recorded files instead",
+                    ));
+                }
+                let mut file = RadarFile::open(&live.file, scene.radar.clone(), options.iq_order)?;
+                file.mark_incomplete(&live.incomplete);
+                // Every later reader of the samples (the module under QEMU) takes this file.
+                scene.adc_file.clone_from(&live.file);
+                file
+            }
+        };
         if let Some(path) = &scene.calibration_file {
             limits::confined(&root, path)?;
             let file = calibration::CalibrationFile::read(path)?;

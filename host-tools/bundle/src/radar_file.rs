@@ -23,6 +23,8 @@ pub struct RadarFile {
     loops_of_frame: Option<(u16, u16)>,
     /// The channel calibration [`Self::read_frame`] applies.
     calibration: Option<AppliedCalibration>,
+    /// Frames a live stream did not deliver whole, sorted.
+    incomplete: Vec<u32>,
 }
 
 impl RadarFile {
@@ -85,6 +87,7 @@ impl RadarFile {
             slaves: None,
             loops_of_frame,
             calibration: None,
+            incomplete: Vec::new(),
         })
     }
 
@@ -156,6 +159,7 @@ impl RadarFile {
             slaves: Some([a, b, c]),
             loops_of_frame: None,
             calibration: None,
+            incomplete: Vec::new(),
         })
     }
 
@@ -218,6 +222,14 @@ impl RadarFile {
         self.calibration = Some(calibration.normalized());
     }
 
+    /// Marks `frames` as not delivered whole (a live stream lost bytes of them or ended before
+    /// them): [`Self::read_frame`] then refuses them.
+    pub fn mark_incomplete(&mut self, frames: &[u32]) {
+        self.incomplete.extend_from_slice(frames);
+        self.incomplete.sort_unstable();
+        self.incomplete.dedup();
+    }
+
     /// Whether frames are read calibrated.
     pub fn is_calibrated(&self) -> bool {
         self.calibration.is_some()
@@ -257,6 +269,15 @@ impl RadarFile {
                 format!(
                     "frame {frame} requested; the capture has {}",
                     self.config.frames
+                ),
+            ));
+        }
+        if self.incomplete.binary_search(&frame).is_ok() {
+            return Err(InputError::file(
+                &self.path,
+                format!(
+                    "frame {frame} did not arrive whole from the DCA1000 (packets lost or the \
+                     stream ended first); it is skipped, never processed as if whole"
                 ),
             ));
         }

@@ -750,3 +750,64 @@ fn frequency_corrections_follow_the_chirp_they_are_applied_to() {
     assert_eq!(cal.get(1, 3).unwrap().step, Phase::from_turns(2.0 / 16.0));
     assert_eq!(cal.get(0, 0).unwrap().step, Phase(0));
 }
+
+#[test]
+fn a_live_capture_replaces_the_radar_file_and_its_incomplete_frames_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_bundle(tmp.path());
+    // The stream: the bundle's samples negated, frame 1 not whole.
+    let recorded = tmp.path().join("stream.bin");
+    let bytes = std::fs::read(tmp.path().join("radar.bin")).unwrap();
+    let negated: Vec<u8> = bytes
+        .chunks_exact(2)
+        .flat_map(|b| {
+            i16::from_le_bytes([b[0], b[1]])
+                .wrapping_neg()
+                .to_le_bytes()
+        })
+        .collect();
+    std::fs::write(&recorded, &negated).unwrap();
+    let options = OpenOptions {
+        capture: Some(metamoran_bundle::LiveCapture {
+            file: recorded.clone(),
+            incomplete: vec![1],
+        }),
+        ..OpenOptions::default()
+    };
+    let mut b = Bundle::open(tmp.path(), options.clone()).unwrap();
+    assert_eq!(b.scene.adc_file, recorded, "later readers take the stream");
+    let mut s = Vec::new();
+    b.read_radar_frame(0, &mut s).unwrap();
+    for (k, z) in s.iter().enumerate() {
+        let (re, im) = iq(k);
+        assert_eq!(
+            (z.re.0, z.im.0),
+            (re.wrapping_neg(), im.wrapping_neg()),
+            "{k}"
+        );
+    }
+    let err = b.read_radar_frame(1, &mut s).unwrap_err().to_string();
+    assert!(
+        err.contains("stream.bin") && err.contains("frame 1 did not arrive whole"),
+        "{err}"
+    );
+    assert_eq!(
+        b.camera_frame(1).unwrap().mask[3],
+        1,
+        "the camera is the bundle's"
+    );
+    // A stream of another size than the bundle's frames is refused by name.
+    std::fs::write(&recorded, &negated[..negated.len() - 4]).unwrap();
+    let err = Bundle::open(tmp.path(), options.clone())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("stream.bin"), "{err}");
+    // An MMWCAS bundle cannot take one device's stream.
+    std::fs::write(&recorded, &negated).unwrap();
+    edit_scene(tmp.path(), "\"dca1000-xwr18xx\"", "\"mmwcas-rf-evm\"");
+    let err = Bundle::open(tmp.path(), options).unwrap_err().to_string();
+    assert!(
+        err.contains("scene.toml") && err.contains("MMWCAS"),
+        "{err}"
+    );
+}

@@ -4,7 +4,9 @@
 use clap::ValueEnum;
 use metamoran_bundle::{CameraModels, OpenOptions};
 use metamoran_dsp::capture::IqOrder;
-use std::path::PathBuf;
+use std::net::{IpAddr, SocketAddr};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// I/Q order of a capture's samples.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -159,6 +161,7 @@ impl BundleArgs {
                 self.models.segmenter.as_deref(),
                 self.models.depth_model.as_deref(),
             )?,
+            capture: None,
         })
     }
 }
@@ -229,7 +232,7 @@ impl CaptureArgs {
     ///
     /// # Errors
     /// A message naming the file when it is missing or does not fit its config.
-    pub fn open(&self, path: &std::path::Path) -> Result<metamoran_bundle::RadarFile, String> {
+    pub fn open(&self, path: &Path) -> Result<metamoran_bundle::RadarFile, String> {
         if !path.exists() {
             return Err(format!(
                 "{}: no such file or folder; give a bundle folder or a DCA1000 .bin",
@@ -253,5 +256,70 @@ impl CaptureArgs {
                 path.display()
             )),
         }
+    }
+}
+
+/// A live DCA1000 stream as the radar input (shared by the commands that take one).
+#[derive(clap::Args, Clone, Debug)]
+pub struct LinkArgs {
+    /// Take the radar samples from a live DCA1000 stream: this host's address and data port the
+    /// board sends to (192.168.33.30:4098 on TI's default setup).
+    #[arg(long, value_name = "ADDR")]
+    pub dca1000: Option<SocketAddr>,
+    /// The board's IP: packets from elsewhere are dropped and counted.
+    #[arg(long, requires = "dca1000")]
+    pub from: Option<IpAddr>,
+    /// Configure and start the board over its config port first (connect, FPGA and packet
+    /// configuration, start record), stop it at the end; needs --from.
+    #[arg(long, requires = "from")]
+    pub control: bool,
+    /// Seconds to wait for the stream's first packet.
+    #[arg(long, default_value_t = 10.0, value_name = "S")]
+    pub start_s: f64,
+    /// Seconds without a packet that end the stream.
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    pub idle_s: f64,
+}
+
+impl LinkArgs {
+    /// The stream, if `--dca1000` was given.
+    ///
+    /// # Errors
+    /// A negative or non-finite number of seconds.
+    pub fn link(&self) -> Result<Option<metamoran::live::Link>, String> {
+        let seconds = |s: f64, flag: &str| {
+            Duration::try_from_secs_f64(s).map_err(|_| format!("{flag} {s}: give seconds ≥ 0"))
+        };
+        let Some(addr) = self.dca1000 else {
+            return Ok(None);
+        };
+        Ok(Some(metamoran::live::Link {
+            addr,
+            from: self.from,
+            control: self.control,
+            start: seconds(self.start_s, "--start-s")?,
+            idle: seconds(self.idle_s, "--idle-s")?,
+        }))
+    }
+
+    /// With `--dca1000`: the stream recorded for the bundle in `dir` (see
+    /// [`metamoran::live::Link::capture_for`]), its report on stderr. Keep it while the bundle
+    /// is read.
+    ///
+    /// # Errors
+    /// As that, or bad seconds.
+    pub fn capture_for(
+        &self,
+        dir: &Path,
+    ) -> Result<Option<metamoran::live::Live>, metamoran::Error> {
+        let Some(link) = self.link()? else {
+            return Ok(None);
+        };
+        let live = link.capture_for(dir)?;
+        eprint!(
+            "{}",
+            super::record::Report::new(live.file.path(), &live.recording)
+        );
+        Ok(Some(live))
     }
 }

@@ -1,6 +1,6 @@
 //! `metamoran demo`: the whole system on a built-in scene, no hardware.
 
-use super::args::Locations;
+use super::args::{LinkArgs, Locations};
 use metamoran::demo::{DemoEdge, DemoOptions};
 use metamoran_operator::mqtt::{MqttConfig, MqttLogin, MqttTls};
 use std::path::PathBuf;
@@ -31,7 +31,12 @@ impl From<DemoEdgeArg> for DemoEdge {
 /// perimeter alerts, operator view; outputs in one folder.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json\n  metamoran demo --mqtt localhost:1883 --sensor gate-east\n  metamoran demo --no-live > operator.txt"
+    mut_arg("dca1000", |a| a.help(
+        "Take the radar samples from a live DCA1000 stream arriving at ADDR (this host's \
+         address and data port) instead of the simulated capture: the scene's 22 frames are \
+         recorded first, then processed with its camera products"
+    )),
+    after_help = "Examples:\n  metamoran demo\n  metamoran demo --out /tmp/demo --edge in-process\n  metamoran demo --perimeter site.toml --json\n  metamoran demo --mqtt localhost:1883 --sensor gate-east\n  metamoran demo --no-live > operator.txt\n  metamoran demo --dca1000 127.0.0.1:4098   (then: metamoran dca1000-emulate radar.bin --to 127.0.0.1:4098)"
 )]
 pub struct Args {
     /// Output folder (results.json, depth_0.png, points_0.ply, alerts.jsonl, operator.txt, …).
@@ -77,6 +82,9 @@ pub struct Args {
     /// as a sensor would.
     #[arg(long)]
     realtime: bool,
+    /// A live stream in place of the simulated radar capture.
+    #[command(flatten)]
+    live_radar: LinkArgs,
 }
 
 /// The broker `broker` with the TLS files and login of `args`.
@@ -127,6 +135,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
             .transpose()?,
         live: !args.json && !args.no_live && std::io::IsTerminal::is_terminal(&std::io::stdout()),
         realtime: args.realtime,
+        dca1000: args.live_radar.link()?,
     };
     super::print(&metamoran::demo::run(&args.out, &options)?, args.json)
 }

@@ -1,6 +1,6 @@
 //! `metamoran process`: each object of interest's depth in every frame of a bundle (cli.md).
 
-use super::args::{BundleArgs, Locations, ModeArg};
+use super::args::{BundleArgs, LinkArgs, Locations, ModeArg};
 use metamoran_process::{ProcessOptions, ProcessOutput, Runner, process_streamed};
 use std::fmt;
 use std::path::PathBuf;
@@ -17,7 +17,13 @@ pub enum EdgeArg {
 /// Estimate each object of interest's depth in every frame of a scene bundle (cli.md).
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json\n  metamoran process site-07 --segmenter seg.onnx --depth-model depth.onnx --json   (needs --features onnx)"
+    mut_arg("dca1000", |a| a.help(
+        "Take the radar samples from a live DCA1000 stream arriving at ADDR (this host's \
+         address and data port) instead of the bundle's adc_file: the bundle's frame count of \
+         frames of its [radar] table are recorded first; the camera products come from the \
+         bundle; a frame that does not arrive whole is skipped and reported"
+    )),
+    after_help = "Examples:\n  metamoran process scenes/parking-lot-1-0000 --mode naive --json\n  metamoran process scenes/parking-lot-1-0000 --mode monocular --json\n  metamoran process scenes/parking-lot-1-0000 --mode metamoran --edge qemu --json\n  metamoran process site-07 --dca1000 192.168.33.30:4098 --json   (radar from the board, camera from the bundle)\n  metamoran process site-07 --segmenter seg.onnx --depth-model depth.onnx --json   (needs --features onnx)"
 )]
 pub struct Args {
     /// The bundle folder.
@@ -27,6 +33,9 @@ pub struct Args {
     mode: ModeArg,
     #[command(flatten)]
     read: BundleArgs,
+    /// A live stream in place of the bundle's radar capture.
+    #[command(flatten)]
+    live: LinkArgs,
     /// Where the module's share of `--mode metamoran` runs: in this process, or the firmware
     /// under QEMU over the authenticated telemetry link (same JSON).
     #[arg(long, value_enum, default_value = "in-process")]
@@ -57,7 +66,9 @@ pub struct Args {
 /// # Errors
 /// A bad bundle, model, key or output folder, or a module that cannot run.
 pub fn run(args: &Args, locations: &Locations) -> super::Result {
-    let open = args.read.options()?;
+    let mut open = args.read.options()?;
+    let live = args.live.capture_for(&args.bundle)?;
+    open.capture = live.as_ref().map(|l| l.capture.clone());
     let runner = match args.edge {
         EdgeArg::InProcess => Runner::InProcess,
         EdgeArg::Qemu => Runner::Qemu {

@@ -1,19 +1,20 @@
 //! `metamoran record`: a live DCA1000 stream to a `.bin` capture.
 
-use super::args::BoardArg;
+use super::args::{BoardArg, LinkArgs};
 use metamoran_bundle::capture::read_config;
-use metamoran_dca1000::Receiver;
-use metamoran_dca1000::control::Board;
-use metamoran_dca1000::record::{Incomplete, Recording, record};
+use metamoran_dca1000::record::{Incomplete, Recording};
 use std::fmt;
-use std::net::{IpAddr, SocketAddr};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 /// Record a live DCA1000EVM raw-mode stream into a capture file (the usual DCA1000 .bin): frames
 /// reassembled by byte count, lost bytes zero-filled and the incomplete frames listed.
 #[derive(clap::Args, Debug)]
 #[command(
+    mut_arg("dca1000", |a| a.required(true).help(
+        "This host's address and data port the board sends its samples to \
+         (192.168.33.30:4098 on TI's default setup)"
+    )),
+    mut_arg("config", |a| a.required(true)),
     after_help = "Examples:\n  metamoran record --dca1000 192.168.33.30:4098 --config profile.cfg --out capture.bin\n  metamoran record --dca1000 192.168.33.30:4098 --config profile.cfg --from 192.168.33.180 --control --frames 100 --out capture.bin"
 )]
 pub struct Args {
@@ -30,32 +31,17 @@ pub struct Args {
 /// Where a live stream comes from and how long it lasts (shared by `record` and `summarize`).
 #[derive(clap::Args, Debug)]
 pub struct StreamArgs {
-    /// This host's address and data port the board sends its samples to (192.168.33.30:4098 on
-    /// TI's default setup).
-    #[arg(long, value_name = "ADDR")]
-    pub dca1000: SocketAddr,
+    #[command(flatten)]
+    pub link: LinkArgs,
     /// The radar config (TOML, mmWave SDK .cfg or mmWave Studio .mmwave.json): the frame size.
     #[arg(long)]
-    pub config: PathBuf,
+    pub config: Option<PathBuf>,
     /// The TI board a .cfg or .mmwave.json configures.
     #[arg(long, value_enum)]
     pub board: Option<BoardArg>,
-    /// The board's IP: packets from elsewhere are dropped and counted.
-    #[arg(long)]
-    pub from: Option<IpAddr>,
-    /// Configure and start the board over its config port first (connect, FPGA and packet
-    /// configuration, start record), stop it at the end; needs --from.
-    #[arg(long, requires = "from")]
-    pub control: bool,
     /// Stop after this many frames.
-    #[arg(long)]
+    #[arg(long, requires = "dca1000")]
     pub frames: Option<u64>,
-    /// Seconds to wait for the stream's first packet.
-    #[arg(long, default_value_t = 10.0)]
-    pub start_s: f64,
-    /// Seconds without a packet that end the stream.
-    #[arg(long, default_value_t = 1.0)]
-    pub idle_s: f64,
 }
 
 impl StreamArgs {
@@ -63,48 +49,18 @@ impl StreamArgs {
     /// frame size from the config.
     ///
     /// # Errors
-    /// A bad config, a socket or control failure, or `out` failing.
+    /// No --dca1000 or --config, a bad config, a socket or control failure, or `out` failing.
     pub fn record(
         &self,
         out: &mut impl std::io::Write,
         incomplete: Incomplete,
-    ) -> Result<Recording, String> {
-        let config =
-            read_config(&self.config, self.board.map(Into::into)).map_err(|e| e.to_string())?;
+    ) -> Result<Recording, metamoran::Error> {
+        let (Some(link), Some(config)) = (self.link.link()?, &self.config) else {
+            return Err("a live stream needs --dca1000 ADDR and --config".into());
+        };
+        let config = read_config(config, self.board.map(Into::into))?;
         let frame_bytes = config.radar.samples_per_frame() * 4;
-        let mut rx = Receiver::bind(self.dca1000, frame_bytes, self.from)
-            .map_err(|e| format!("--dca1000 {}: cannot listen there ({e}); give this host's address on the board's network", self.dca1000))?;
-        let seconds = |s: f64, flag: &str| {
-            Duration::try_from_secs_f64(s).map_err(|_| format!("{flag} {s}: give seconds ≥ 0"))
-        };
-        let (start, idle) = (
-            seconds(self.start_s, "--start-s")?,
-            seconds(self.idle_s, "--idle-s")?,
-        );
-        let board = match (self.control, self.from) {
-            (true, Some(ip)) => {
-                let local =
-                    SocketAddr::new(self.dca1000.ip(), metamoran_dca1000::command::CONFIG_PORT);
-                let b = Board::new(ip, local, Duration::from_secs(2))
-                    .map_err(|e| format!("cannot open the config port on {local}: {e}"))?;
-                b.start().map_err(|e| e.to_string())?;
-                Some(b)
-            }
-            _ => None,
-        };
-        let rec = record(
-            &mut rx,
-            out,
-            frame_bytes,
-            self.frames,
-            (start, idle),
-            incomplete,
-        )
-        .map_err(|e| e.to_string())?;
-        if let Some(b) = board {
-            b.stop().map_err(|e| e.to_string())?;
-        }
-        Ok(rec)
+        link.record(frame_bytes, self.frames, out, incomplete)
     }
 }
 
@@ -215,7 +171,11 @@ pub fn run(args: &Args) -> super::Result {
     if rec.frames == 0 {
         return Err(format!(
             "no frame arrived on {} within {} s",
-            args.stream.dca1000, args.stream.start_s
+            args.stream
+                .link
+                .dca1000
+                .map_or_else(String::new, |a| a.to_string()),
+            args.stream.link.start_s
         )
         .into());
     }

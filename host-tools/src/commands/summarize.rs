@@ -1,27 +1,24 @@
 //! `metamoran summarize`: range-profile peaks and moving targets of a bundle or a bare capture.
 
-use super::args::CaptureArgs;
+use super::args::{CaptureArgs, LinkArgs};
 use metamoran_process::summary::summarize;
 use std::path::PathBuf;
 
 /// Summarize a scene bundle or a bare DCA1000 capture: range-profile peaks and moving targets.
 #[derive(clap::Args, Debug)]
 #[command(
+    mut_arg("dca1000", |a| a
+        .requires("config")
+        .conflicts_with("path")
+        .help("Summarize a live DCA1000 stream instead: this host's address and data port the board sends to (the frames are recorded to a temporary file first; needs --config)")),
     after_help = "Examples:\n  metamoran summarize scenes/parking-lot-07\n  metamoran summarize adc_data.bin --config radar.toml --iq-order qqii --json\n  metamoran summarize adc_data.bin --config xwr18xx_profile.cfg --board xwr18xx-boost"
 )]
 pub struct Args {
     /// A bundle folder (with scene.toml) or a DCA1000 .bin file (none with --dca1000).
     #[arg(required_unless_present = "dca1000")]
     path: Option<PathBuf>,
-    /// Summarize a live DCA1000 stream instead: this host's address and data port the board
-    /// sends to (the frames are recorded to a temporary file first; needs --config).
-    #[arg(
-        long,
-        value_name = "ADDR",
-        requires = "config",
-        conflicts_with = "path"
-    )]
-    dca1000: Option<std::net::SocketAddr>,
+    #[command(flatten)]
+    link: LinkArgs,
     /// With --dca1000: frames to take.
     #[arg(long, requires = "dca1000")]
     frames: Option<u64>,
@@ -38,17 +35,13 @@ pub struct Args {
 /// A missing or bad capture, config or bundle.
 pub fn run(args: &Args) -> super::Result {
     // A live stream is recorded first, through `record`'s code.
-    let live = match (args.dca1000, &args.capture.config) {
-        (Some(addr), Some(config)) => {
+    let live = match args.link.dca1000 {
+        Some(addr) => {
             let stream = super::record::StreamArgs {
-                dca1000: addr,
-                config: config.clone(),
+                link: args.link.clone(),
+                config: args.capture.config.clone(),
                 board: args.capture.board,
-                from: None,
-                control: false,
                 frames: args.frames,
-                start_s: 10.0,
-                idle_s: 1.0,
             };
             let mut tmp = tempfile::NamedTempFile::new()?;
             // Frames that are not whole are left out: they are never processed as frames.
@@ -60,7 +53,7 @@ pub fn run(args: &Args) -> super::Result {
             }
             Some(tmp)
         }
-        _ => None,
+        None => None,
     };
     let path = live.as_ref().map_or_else(
         || args.path.clone().unwrap_or_default(),
