@@ -16,6 +16,7 @@ use crate::clutter::peaks::{self, MAX_PEAKS, Peak, ScanError};
 use crate::clutter::sic::{self, MAX_REFLECTORS, Reflector};
 use crate::config::RadarConfig;
 use crate::fixed::{CQ15, Q15};
+use crate::range::calibration::{self as cal, AppliedCalibration, CalibrationError};
 use crate::range::{FrameSum, RangeError, Spectra};
 use crate::response::Geometry;
 use crate::search::Contour;
@@ -216,6 +217,8 @@ pub enum PipelineError {
     Scan(ScanError),
     /// Depth search.
     Search(SearchError),
+    /// The channel calibration cannot be applied.
+    Calibration(CalibrationError),
     /// A chirp addressed a slot or receiver the configuration does not have.
     Chirp {
         /// Chirp index in the frame.
@@ -234,6 +237,7 @@ impl fmt::Display for PipelineError {
             Self::Range(e) => e.fmt(f),
             Self::Scan(e) => e.fmt(f),
             Self::Search(e) => e.fmt(f),
+            Self::Calibration(e) => e.fmt(f),
             Self::Chirp { chirp, rx } => write!(
                 f,
                 "chirp {chirp}, receiver {rx} is not in the radar configuration: check the capture layout"
@@ -255,7 +259,8 @@ from_errors!(
     Array(ArrayError),
     Range(RangeError),
     Scan(ScanError),
-    Search(SearchError)
+    Search(SearchError),
+    Calibration(CalibrationError)
 );
 
 /// The per-configuration state: array, window, sizes. About 7 KiB.
@@ -268,6 +273,40 @@ pub struct Edge {
     slots: usize,
     chirps: usize,
     bin_m: f32,
+    /// TX of each slot.
+    tx_order: Vec<u8, { crate::config::MAX_SLOTS }>,
+}
+
+/// The most chirps one virtual element may take per frame when the module calibrates:
+/// coefficients then keep 15 − 8 = 7 fraction bits (gain steps under 0.4 %, phase under 0.5°).
+pub const MAX_CALIBRATED_CHIRPS: usize = 255;
+
+/// A calibration in the module's form: every channel's block coefficients
+/// ([`AppliedCalibration::block_coefficients`]), channel-major in capture order (slot · RX +
+/// RX), over caller-owned words ([`Edge::calibration_words`]).
+pub struct ChannelCoefficients<'t> {
+    words: &'t [u32],
+    blocks: usize,
+    block_len: usize,
+    headroom: u32,
+}
+
+impl fmt::Debug for ChannelCoefficients<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ChannelCoefficients")
+            .field("channels", &(self.words.len() / self.blocks.max(1)))
+            .field("blocks", &self.blocks)
+            .field("block_len", &self.block_len)
+            .field("headroom", &self.headroom)
+            .finish()
+    }
+}
+
+impl ChannelCoefficients<'_> {
+    /// Fraction bits the coefficients give up so that an element's sums stay inside `i32`.
+    pub fn headroom(&self) -> u32 {
+        self.headroom
+    }
 }
 
 /// A frame after the range stage: spectra, the strongest reflectors, and the arena's free words.
@@ -357,6 +396,68 @@ impl Edge {
             slots: config.slots(),
             chirps: config.chirps_per_frame(),
             bin_m: config.range_bin_size(config.range_fft_len()),
+            tx_order: config.tx_order.clone(),
+        })
+    }
+
+    /// Words of a [`ChannelCoefficients`] table for this configuration: channels × blocks (24
+    /// KiB for a 12 TX × 16 RX, 512-sample cascade).
+    pub fn calibration_words(&self) -> usize {
+        self.array.channels() * cal::blocks(self.n)
+    }
+
+    /// Chirps the busiest virtual element takes per frame (loops × its channels).
+    fn chirps_per_element(&self) -> usize {
+        let loops = self.chirps / self.slots.max(1);
+        let most = self
+            .array
+            .element_counts()
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(0);
+        loops * usize::from(most)
+    }
+
+    /// `calibration` (by TX and RX index) in the module's form over `words`: each channel's
+    /// block coefficients with the headroom this configuration's sums need. O(channels ·
+    /// blocks), about 30 instructions per coefficient; once per configuration.
+    ///
+    /// # Errors
+    /// [`PipelineError::Calibration`] if `calibration` does not cover a channel, `words` is
+    /// short, or an element takes more than [`MAX_CALIBRATED_CHIRPS`] chirps per frame.
+    pub fn calibrate<'t>(
+        &self,
+        calibration: &AppliedCalibration,
+        words: &'t mut [u32],
+    ) -> Result<ChannelCoefficients<'t>, PipelineError> {
+        let per_element = self.chirps_per_element();
+        if per_element > MAX_CALIBRATED_CHIRPS {
+            return Err(CalibrationError::Chirps {
+                per_element,
+                max: MAX_CALIBRATED_CHIRPS,
+            }
+            .into());
+        }
+        // 2^headroom − 1 ≥ chirps per element.
+        let headroom = usize::BITS - per_element.leading_zeros();
+        let (blocks, need) = (cal::blocks(self.n), self.calibration_words());
+        let Some(words) = words.get_mut(..need) else {
+            return Err(CalibrationError::Length.into());
+        };
+        for (channel, row) in words.chunks_exact_mut(blocks.max(1)).enumerate() {
+            let (slot, rx) = (channel / self.rx.max(1), channel % self.rx.max(1));
+            let tx = self
+                .tx_order
+                .get(slot)
+                .map_or(usize::MAX, |&t| usize::from(t));
+            calibration.block_coefficients(tx, rx, self.n, headroom, row)?;
+        }
+        Ok(ChannelCoefficients {
+            words,
+            blocks,
+            block_len: cal::block_len(self.n),
+            headroom,
         })
     }
 
@@ -432,6 +533,61 @@ impl Edge {
             .into());
         }
         Ok(FrameSum::new(arena, self.array.elements(), self.n, self.m)?)
+    }
+
+    /// Starts a frame in `arena` whose chirps are calibrated by `coefficients` as they are
+    /// summed ([`Self::push_calibrated`]).
+    ///
+    /// # Errors
+    /// [`PipelineError::Range`] if the arena is too small.
+    pub fn start_calibrated<'a>(
+        &self,
+        arena: &'a mut [u32],
+        coefficients: &ChannelCoefficients<'_>,
+    ) -> Result<FrameSum<'a>, PipelineError> {
+        let need = self.arena_words();
+        if arena.len() < need {
+            return Err(RangeError::Buffer {
+                what: "frame arena (u32 words)",
+                expected: need,
+                got: arena.len(),
+            }
+            .into());
+        }
+        Ok(FrameSum::new_calibrated(
+            arena,
+            self.array.elements(),
+            self.n,
+            self.m,
+            coefficients.headroom,
+        )?)
+    }
+
+    /// [`Self::push`] of a frame from [`Self::start_calibrated`]: the chirp multiplied by its
+    /// channel's block coefficients as it is summed. O(N), as many instructions as `push` on
+    /// the M7 plus one load per block.
+    ///
+    /// # Errors
+    /// As [`Self::push`].
+    pub fn push_calibrated(
+        &self,
+        frame: &mut FrameSum<'_>,
+        chirp: usize,
+        rx: usize,
+        samples: &[CQ15],
+        coefficients: &ChannelCoefficients<'_>,
+    ) -> Result<(), PipelineError> {
+        let channel = chirp.checked_rem(self.slots).unwrap_or(usize::MAX) * self.rx + rx;
+        let (element, row) = match (
+            self.array.element_of(channel),
+            coefficients
+                .words
+                .get(channel * coefficients.blocks..(channel + 1) * coefficients.blocks),
+        ) {
+            (Some(e), Some(row)) if rx < self.rx => (e, row),
+            _ => return Err(PipelineError::Chirp { chirp, rx }),
+        };
+        Ok(frame.add_calibrated(element, samples, row, coefficients.block_len)?)
     }
 
     /// Adds chirp `chirp` of the frame (loop-major: slot `chirp % slots`) of receiver `rx`. O(N).

@@ -52,6 +52,7 @@ pub fn run(mut emit: impl FnMut(Outcome)) {
     emit(cfar_workload(&spectrum));
     emit(complex_mac_workload());
     emit(frame_sum_workload());
+    emit(calibrated_sum_workload());
     emit(search_workload());
 }
 
@@ -269,6 +270,53 @@ fn frame_sum_workload() -> Outcome {
     }
 }
 
+/// Calibrated frame sums (`FrameSum::add_calibrated`: the M7's `SMLSD`/`SMLADX` loop) at
+/// every chirp length 1..=13 (whole four-sample turns and the tails), full-scale noise times
+/// full-scale and noise coefficients, three chirps into each of two elements, then the spectra.
+fn calibrated_sum_workload() -> Outcome {
+    use metamoran_dsp::range::FrameSum;
+    use metamoran_dsp::range::frame_sum::pack;
+    let mut h = Fnv::default();
+    let mut exponents = 0u32;
+    let mut failed = false;
+    let mut chirp = [CQ15::default(); 13];
+    let mut c = [CQ15::default(); 4];
+    noise_q15(7, Q15(8192), &mut c);
+    c[0] = CQ15::from_raw(-8192, -8192);
+    let coefficients = c.map(pack);
+    for n in 1..=13usize {
+        let mut arena = [0u32; FrameSum::words_needed(2, 13, 16)];
+        let Ok(mut frame) = FrameSum::new_calibrated(&mut arena, 2, n, 16, 2) else {
+            failed = true;
+            continue;
+        };
+        for row in 0..6u32 {
+            noise_q15(300 + 10 * n as u32 + row, Q15(32767), &mut chirp[..n]);
+            failed |= frame
+                .add_calibrated(row as usize % 2, &chirp[..n], &coefficients, 4)
+                .is_err();
+        }
+        let mut scratch = [CQ15::default(); 16];
+        let window = [Q15(32767); 13];
+        match frame.finish(&window[..n], &mut scratch) {
+            Ok((spectra, _)) => {
+                exponents = exponents
+                    .wrapping_mul(31)
+                    .wrapping_add(spectra.exponent() as u32);
+                for k in 0..spectra.bins() {
+                    spectra.column(k).iter().for_each(|&w| h.u32(w));
+                }
+            }
+            Err(_) => failed = true,
+        }
+    }
+    Outcome {
+        name: "calibrated_sum_1_to_13",
+        exponent: if failed { u32::MAX } else { exponents },
+        hash: h.0,
+    }
+}
+
 /// The module pipeline (`metamoran_dsp::pipeline`: frame sums, in-place range spectra, peak scan, SIC,
 /// depth search) on a synthetic 2 TX × 4 RX, 64-sample frame: a contour object at bin 20.3 and a
 /// strong reflector at bin 9.6, 35° away.
@@ -345,7 +393,7 @@ mod tests {
             names += 1;
             assert_ne!(o.exponent, u32::MAX, "{}", o.name);
         });
-        assert_eq!(names, 17);
+        assert_eq!(names, 18);
     }
 
     /// The dual-MAC against the sum of products in i64 (an independent closed form: the

@@ -150,35 +150,82 @@ mod imp {
         )
     }
 
-    /// `acc[2i] += re(x[i])`, `acc[2i + 1] += im(x[i])` (wrapping) for the first `2·pairs` words
-    /// of `x`: per pair of words one `LDRD` of samples, two of sums, two `SXTAH`, two
-    /// `ADD …, ASR #16` and two `STRD`s (five instructions per word with the loop).
+    /// `acc[2i] += re(x[i])`, `acc[2i + 1] += im(x[i])` (wrapping) for the first `4·quads` words
+    /// of `x`: per pair of words one `LDRD` of samples, one `LDM` and one `STM` of the four sums
+    /// (r0–r3), two `SXTAH` and two `ADD …, ASR #16`; two pairs per turn (four instructions per
+    /// word with the loop).
     ///
     /// # Safety
-    /// `x` must hold at least `2·pairs` words, `acc` at least `4·pairs`, and `pairs > 0`.
+    /// `x` must hold at least `4·quads` words, `acc` at least `8·quads`, and `quads > 0`.
     #[inline(always)]
-    pub unsafe fn widen_add_pairs(acc: &mut [u32], x: &[u32], pairs: usize) {
-        // SAFETY: the loop reads `2·pairs` words of `x` and reads and writes `4·pairs` words of
+    pub unsafe fn widen_add_quads(acc: &mut [u32], x: &[u32], quads: usize) {
+        // SAFETY: the loop reads `4·quads` words of `x` and reads and writes `8·quads` words of
         // `acc`, which the caller guarantees, and touches no other memory.
         unsafe {
             asm!(
                 "2:",
                 "ldrd {w0}, {w1}, [{xp}], #8",
-                "ldrd {a0}, {a1}, [{ap}]",
-                "ldrd {a2}, {a3}, [{ap}, #8]",
-                "sxtah {a0}, {a0}, {w0}",
-                "add {a1}, {a1}, {w0}, asr #16",
-                "sxtah {a2}, {a2}, {w1}",
-                "add {a3}, {a3}, {w1}, asr #16",
-                "strd {a2}, {a3}, [{ap}, #8]",
-                "strd {a0}, {a1}, [{ap}], #16",
+                "ldm {ap}, {{r0, r1, r2, r3}}",
+                "sxtah r0, r0, {w0}",
+                "add r1, r1, {w0}, asr #16",
+                "sxtah r2, r2, {w1}",
+                "add r3, r3, {w1}, asr #16",
+                "stm {ap}!, {{r0, r1, r2, r3}}",
+                "ldrd {w0}, {w1}, [{xp}], #8",
+                "ldm {ap}, {{r0, r1, r2, r3}}",
+                "sxtah r0, r0, {w0}",
+                "add r1, r1, {w0}, asr #16",
+                "sxtah r2, r2, {w1}",
+                "add r3, r3, {w1}, asr #16",
+                "stm {ap}!, {{r0, r1, r2, r3}}",
                 "subs {n}, {n}, #1",
                 "bne 2b",
                 xp = inout(reg) x.as_ptr() => _,
                 ap = inout(reg) acc.as_mut_ptr() => _,
-                n = inout(reg) pairs => _,
+                n = inout(reg) quads => _,
                 w0 = out(reg) _, w1 = out(reg) _,
-                a0 = out(reg) _, a1 = out(reg) _, a2 = out(reg) _, a3 = out(reg) _,
+                out("r0") _, out("r1") _, out("r2") _, out("r3") _,
+                options(nostack),
+            );
+        }
+    }
+
+    /// `acc[2i] += re(c·x[i])`, `acc[2i + 1] += im(c·x[i])` (wrapping `i32`, the products exact)
+    /// for the first `4·quads` words of `x`, `c` one packed Q15 coefficient: per pair of words
+    /// one `LDRD`, an `LDM` and an `STM` of the sums, two `SMLSD` and two `SMLADX`; two pairs a
+    /// turn (four instructions per word with the loop, as [`widen_add_quads`]).
+    ///
+    /// # Safety
+    /// As [`widen_add_quads`].
+    #[inline(always)]
+    pub unsafe fn mac_add_quads(acc: &mut [u32], x: &[u32], c: u32, quads: usize) {
+        // SAFETY: as `widen_add_quads`: `4·quads` words of `x` read, `8·quads` of `acc` read
+        // and written, nothing else touched.
+        unsafe {
+            asm!(
+                "2:",
+                "ldrd {w0}, {w1}, [{xp}], #8",
+                "ldm {ap}, {{r0, r1, r2, r3}}",
+                "smlsd r0, {c}, {w0}, r0",
+                "smladx r1, {c}, {w0}, r1",
+                "smlsd r2, {c}, {w1}, r2",
+                "smladx r3, {c}, {w1}, r3",
+                "stm {ap}!, {{r0, r1, r2, r3}}",
+                "ldrd {w0}, {w1}, [{xp}], #8",
+                "ldm {ap}, {{r0, r1, r2, r3}}",
+                "smlsd r0, {c}, {w0}, r0",
+                "smladx r1, {c}, {w0}, r1",
+                "smlsd r2, {c}, {w1}, r2",
+                "smladx r3, {c}, {w1}, r3",
+                "stm {ap}!, {{r0, r1, r2, r3}}",
+                "subs {n}, {n}, #1",
+                "bne 2b",
+                xp = inout(reg) x.as_ptr() => _,
+                ap = inout(reg) acc.as_mut_ptr() => _,
+                n = inout(reg) quads => _,
+                c = in(reg) c,
+                w0 = out(reg) _, w1 = out(reg) _,
+                out("r0") _, out("r1") _, out("r2") _, out("r3") _,
                 options(nostack),
             );
         }
@@ -261,10 +308,20 @@ mod imp {
     ///
     /// # Safety
     /// None needed here; the signature matches the M7's.
-    pub unsafe fn widen_add_pairs(acc: &mut [u32], x: &[u32], pairs: usize) {
-        for (a, &w) in acc.chunks_exact_mut(2).zip(x).take(2 * pairs) {
+    pub unsafe fn widen_add_quads(acc: &mut [u32], x: &[u32], quads: usize) {
+        for (a, &w) in acc.chunks_exact_mut(2).zip(x).take(4 * quads) {
             a[0] = a[0].wrapping_add(lo(w) as u32);
             a[1] = a[1].wrapping_add(hi(w) as u32);
+        }
+    }
+    /// See the M7 version.
+    ///
+    /// # Safety
+    /// None needed here; the signature matches the M7's.
+    pub unsafe fn mac_add_quads(acc: &mut [u32], x: &[u32], c: u32, quads: usize) {
+        for (a, &w) in acc.chunks_exact_mut(2).zip(x).take(4 * quads) {
+            a[0] = smlsd(c, w, a[0] as i32) as u32;
+            a[1] = smladx(c, w, a[1] as i32) as u32;
         }
     }
 }
@@ -294,24 +351,45 @@ pub fn complex_mac(x: &[u32], w: &[u32]) -> (i64, i64) {
 }
 
 /// Adds packed Q15 complex words into `i32` sums, wrapping: `acc[2i] += re(x[i])` and
-/// `acc[2i + 1] += im(x[i])`, over the words `acc` has room for. O(len); on the M7 five
-/// instructions per word (a hand-scheduled loop over `LDRD` pairs with `SXTAH`).
+/// `acc[2i + 1] += im(x[i])`, over the words `acc` has room for. O(len); on the M7 four
+/// instructions per word (a hand-scheduled loop, `LDM`/`STM` of the sums, with `SXTAH`).
 #[inline]
 pub fn widen_add(acc: &mut [u32], x: &[u32]) {
     let len = x.len().min(acc.len() / 2);
-    let pairs = len / 2;
-    if pairs > 0 {
-        // SAFETY: `x` holds `len ≥ 2·pairs` words, `acc` at least `2·len ≥ 4·pairs`.
-        unsafe { widen_add_pairs(acc, x, pairs) };
+    let quads = len / 4;
+    if quads > 0 {
+        // SAFETY: `x` holds `len ≥ 4·quads` words, `acc` at least `2·len ≥ 8·quads`.
+        unsafe { widen_add_quads(acc, x, quads) };
     }
-    let last = 2 * pairs; // the odd word, if any
-    if let (true, Some(&w), Some(a)) = (
-        len % 2 == 1,
-        x.get(last),
-        acc.get_mut(2 * last..2 * last + 2),
-    ) {
+    let (acc, x) = (
+        acc.get_mut(8 * quads..2 * len).unwrap_or_default(),
+        x.get(4 * quads..len).unwrap_or_default(),
+    );
+    for (a, &w) in acc.chunks_exact_mut(2).zip(x) {
         a[0] = a[0].wrapping_add(w as i16 as u32);
         a[1] = a[1].wrapping_add(((w as i32) >> 16) as u32);
+    }
+}
+
+/// Adds the products of packed Q15 complex words with one packed coefficient `c` into `i32`
+/// sums, wrapping: `acc[2i] += re(c·x[i])`, `acc[2i + 1] += im(c·x[i])`, each product exact
+/// (`SMLSD` and `SMLADX`), over the words `acc` has room for. The sums are exact while the
+/// true ones fit in `i32`. O(len); on the M7 four instructions per word, as [`widen_add`].
+#[inline]
+pub fn mac_add(acc: &mut [u32], x: &[u32], c: u32) {
+    let len = x.len().min(acc.len() / 2);
+    let quads = len / 4;
+    if quads > 0 {
+        // SAFETY: `x` holds `len ≥ 4·quads` words, `acc` at least `2·len ≥ 8·quads`.
+        unsafe { mac_add_quads(acc, x, c, quads) };
+    }
+    let (acc, x) = (
+        acc.get_mut(8 * quads..2 * len).unwrap_or_default(),
+        x.get(4 * quads..len).unwrap_or_default(),
+    );
+    for (a, &w) in acc.chunks_exact_mut(2).zip(x) {
+        a[0] = smlsd(c, w, a[0] as i32) as u32;
+        a[1] = smladx(c, w, a[1] as i32) as u32;
     }
 }
 
@@ -423,5 +501,56 @@ mod tests {
         }
         // (0.5 + 0.25j) · j = −0.25 + 0.5j
         assert_eq!(rotate(p(16384, 8192), p(0, 32767)), p(-8192, 16384));
+    }
+
+    #[test]
+    fn multiply_accumulate_sums_equal_their_i64_definition_wrapping_included() {
+        let xs: std::vec::Vec<u32> = (0..13i32)
+            .map(|i| p((-32768 + 5461 * i) as i16, (32767 - 4099 * i) as i16))
+            .collect();
+        for c in [p(-32768, -32768), p(32767, -1), p(-12345, 23456), p(0, 0)] {
+            for len in 0..=13usize {
+                let mut acc: std::vec::Vec<u32> = (0..28u32)
+                    .map(|i| (i32::MAX as u32 - 5).wrapping_add(i.wrapping_mul(0x1357_9bdf)))
+                    .collect();
+                let before = acc.clone();
+                mac_add(&mut acc, &xs[..len], c);
+                for i in 0..14 {
+                    let (re, im) = if i < len {
+                        let (a, b) = (c, xs[i]);
+                        (
+                            lo_i(a) * lo_i(b) - hi_i(a) * hi_i(b),
+                            lo_i(a) * hi_i(b) + hi_i(a) * lo_i(b),
+                        )
+                    } else {
+                        (0, 0)
+                    };
+                    let want = |b: u32, part: i64| (b as i32 as i64 + part) as i32 as u32;
+                    assert_eq!(acc[2 * i], want(before[2 * i], re), "len {len} re {i}");
+                    assert_eq!(
+                        acc[2 * i + 1],
+                        want(before[2 * i + 1], im),
+                        "len {len} im {i}"
+                    );
+                }
+                // Widening sums over the same lengths (two quads and a tail).
+                let mut wide = before.clone();
+                widen_add(&mut wide, &xs[..len]);
+                for i in 0..14 {
+                    let (re, im) = if i < len {
+                        (lo_i(xs[i]), hi_i(xs[i]))
+                    } else {
+                        (0, 0)
+                    };
+                    let want = |b: u32, part: i64| (b as i32 as i64 + part) as i32 as u32;
+                    assert_eq!(wide[2 * i], want(before[2 * i], re), "len {len} re {i}");
+                    assert_eq!(
+                        wide[2 * i + 1],
+                        want(before[2 * i + 1], im),
+                        "len {len} im {i}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -71,6 +71,7 @@ pub struct AppliedCalibration {
 
 /// Why a calibration cannot be built or applied.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum CalibrationError {
     /// More TX or RX than the board may have.
     Size {
@@ -88,6 +89,13 @@ pub enum CalibrationError {
     },
     /// Input and output rows differ in length.
     Length,
+    /// More chirps per virtual element in a frame than the module's calibrated sums hold.
+    Chirps {
+        /// Chirps an element takes per frame.
+        per_element: usize,
+        /// The most the module takes calibrated.
+        max: usize,
+    },
 }
 
 impl core::fmt::Display for CalibrationError {
@@ -102,6 +110,10 @@ impl core::fmt::Display for CalibrationError {
                 "channel (tx {tx}, rx {rx}) is not on the board: check the calibration against tx_positions and rx_positions"
             ),
             Self::Length => f.write_str("calibration input and output rows differ in length"),
+            Self::Chirps { per_element, max } => write!(
+                f,
+                "a frame sums {per_element} chirps into one virtual element; the module applies a calibration to at most {max}: use fewer loops per frame, or calibrate on the host"
+            ),
         }
     }
 }
@@ -239,7 +251,105 @@ impl AppliedCalibration {
     pub fn size(&self) -> (usize, usize) {
         (self.tx, self.rx)
     }
+
+    /// An identity calibration of `tx × rx` channels in Q15 form, to fill with
+    /// [`Self::set`] (the module builds one from the messages of the link).
+    ///
+    /// # Errors
+    /// [`CalibrationError::Size`] beyond [`MAX_TX`] × [`MAX_RX`].
+    pub fn identity(tx: usize, rx: usize) -> Result<Self, CalibrationError> {
+        Ok(Calibration::identity(tx, rx)?.normalized())
+    }
+
+    /// Channel `(tx, rx)`'s Q15 gain and per-sample phase step, if on the board.
+    pub fn get(&self, tx: usize, rx: usize) -> Option<(CQ15, Phase)> {
+        (tx < self.tx && rx < self.rx).then(|| (self.gains[tx][rx], self.steps[tx][rx]))
+    }
+
+    /// Sets channel `(tx, rx)`'s Q15 gain and per-sample phase step (as [`Self::get`] gives
+    /// them; the gains of one calibration share one scale).
+    ///
+    /// # Errors
+    /// [`CalibrationError::Channel`] for a pair outside the board.
+    pub fn set(
+        &mut self,
+        tx: usize,
+        rx: usize,
+        gain: CQ15,
+        step: Phase,
+    ) -> Result<(), CalibrationError> {
+        if tx >= self.tx || rx >= self.rx {
+            return Err(CalibrationError::Channel { tx, rx });
+        }
+        self.gains[tx][rx] = gain;
+        self.steps[tx][rx] = step;
+        Ok(())
+    }
+
+    /// Channel `(tx, rx)`'s correction of an `n`-sample chirp as one coefficient per block of
+    /// [`block_len`]`(n)` samples (the last block may be shorter), for the module's range
+    /// stage, which multiplies and sums in one pass (`FrameSum::add_calibrated`): block `b`'s
+    /// coefficient is `g · exp(j·2π·step·c_b)` at the block's centre `c_b`, rounded to
+    /// Q(15 − `headroom`) so that sums of up to `2^headroom − 1` products stay inside `i32`.
+    /// Writes [`blocks`]`(n)` packed words to `out`. The phase within a block is off by at most
+    /// `π · f · L / N` (f the offset in bins: 5.6° for one bin at L/N = 1/32). O(blocks).
+    ///
+    /// # Errors
+    /// [`CalibrationError`] for a pair outside the board or `out` shorter than the blocks.
+    pub fn block_coefficients(
+        &self,
+        tx: usize,
+        rx: usize,
+        n: usize,
+        headroom: u32,
+        out: &mut [u32],
+    ) -> Result<(), CalibrationError> {
+        let Some((g, step)) = self.get(tx, rx) else {
+            return Err(CalibrationError::Channel { tx, rx });
+        };
+        let (len, count) = (block_len(n), blocks(n));
+        let Some(out) = out.get_mut(..count) else {
+            return Err(CalibrationError::Length);
+        };
+        let down = headroom.min(15);
+        let part = |v: i16| {
+            if down == 0 {
+                v
+            } else {
+                ((i32::from(v) + (1 << (down - 1))) >> down) as i16
+            }
+        };
+        for (b, o) in out.iter_mut().enumerate() {
+            let start = b * len;
+            let here = len.min(n.saturating_sub(start));
+            // Twice the centre, so that a half sample stays exact: phase = step · (2s + l − 1) / 2,
+            // the step signed (a wrapped negative step halved unsigned would be half a turn off).
+            let twice = (2 * start + here).saturating_sub(1) as i64;
+            let phase = ((i64::from(step.0 as i32) * twice) >> 1) as u32;
+            // exp(+j·2π·phase) = exp(−j·2π·(−phase)), as `apply` turns.
+            let c = mul_q15(g, expj_neg(Phase(phase.wrapping_neg())));
+            *o = crate::range::frame_sum::pack(CQ15::from_raw(part(c.re.0), part(c.im.0)));
+        }
+        Ok(())
+    }
 }
+
+/// Samples per block of [`AppliedCalibration::block_coefficients`] for an `n`-sample chirp:
+/// `n / 32` rounded up to a multiple of 4 (the M7 loop's unit), at least 4.
+pub const fn block_len(n: usize) -> usize {
+    let l = n.div_ceil(BLOCKS);
+    let l = if l < 4 { 4 } else { l };
+    l.div_ceil(4) * 4
+}
+
+/// Blocks of [`block_len`] in an `n`-sample chirp (at most [`BLOCKS`]).
+pub const fn blocks(n: usize) -> usize {
+    n.div_ceil(block_len(n))
+}
+
+/// Blocks per chirp of the module's calibration: the coefficient table of a cascade (192
+/// channels) is 24 KiB.
+pub const BLOCKS: usize = 32;
 
 #[cfg(test)]
 mod tests {
@@ -349,5 +459,59 @@ mod tests {
         a.apply(0, 0, &[CQ15::from_raw(100, 100); 2], &mut y)
             .unwrap();
         assert_eq!(y, [CQ15::from_raw(100, 100); 2]);
+    }
+
+    /// Block coefficients are the f64 correction at each block's centre, in Q(15 − headroom),
+    /// for chirp lengths that fill the blocks and that do not.
+    #[test]
+    fn block_coefficients_match_the_f64_correction_at_block_centres() {
+        let mut cal = Calibration::identity(2, 2).unwrap();
+        let cases = [
+            (0, 0, (1.0, 0.0), 0.0),
+            (1, 1, (-0.4, 0.9), 1.37),
+            (0, 1, (0.2, -0.3), -0.6),
+        ];
+        for &(t, r, g, f) in &cases {
+            cal.set(t, r, Correction::from_f64(g, f, 512)).unwrap();
+        }
+        let peak = cases.iter().map(|c| c.2.0.hypot(c.2.1)).fold(0.0, f64::max);
+        let applied = cal.normalized();
+        for (n, headroom) in [(512usize, 4u32), (100, 0), (256, 8)] {
+            let len = block_len(n);
+            assert_eq!(len % 4, 0);
+            assert!(blocks(n) <= BLOCKS && blocks(n) * len >= n && (blocks(n) - 1) * len < n);
+            let mut out = vec![0u32; blocks(n)];
+            for &(t, r, g, f) in &cases {
+                applied
+                    .block_coefficients(t, r, n, headroom, &mut out)
+                    .unwrap();
+                // The step was set for 512 samples: f / 512 turns per sample at any n.
+                for (b, &w) in out.iter().enumerate() {
+                    let (start, end) = (b * len, ((b + 1) * len).min(n));
+                    let centre = (start + end - 1) as f64 / 2.0;
+                    let th = 2.0 * core::f64::consts::PI * f * centre / 512.0;
+                    let scale = 32_767.0 / peak / f64::from(1u32 << headroom);
+                    let (gr, gi) = (g.0 * scale, g.1 * scale);
+                    let want = (gr * th.cos() - gi * th.sin(), gr * th.sin() + gi * th.cos());
+                    let c = crate::range::frame_sum::unpack(w);
+                    let err = (f64::from(c.re.0) - want.0)
+                        .abs()
+                        .max((f64::from(c.im.0) - want.1).abs());
+                    // Two Q15 roundings and the twiddle interpolation, then one more rounding.
+                    assert!(
+                        err < 1.0 + 3.0 / f64::from(1u32 << headroom),
+                        "n {n} ({t},{r}) block {b}: {c:?} vs {want:?}"
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            applied.block_coefficients(2, 0, 512, 4, &mut [0; 32]),
+            Err(CalibrationError::Channel { tx: 2, rx: 0 })
+        );
+        assert_eq!(
+            applied.block_coefficients(0, 0, 512, 4, &mut [0; 31]),
+            Err(CalibrationError::Length)
+        );
     }
 }
