@@ -275,6 +275,7 @@ pub struct Edge {
     bin_m: f32,
     /// TX of each slot.
     tx_order: Vec<u8, { crate::config::MAX_SLOTS }>,
+    tx: usize,
 }
 
 /// The most chirps one virtual element may take per frame when the module calibrates:
@@ -287,7 +288,6 @@ pub const MAX_CALIBRATED_CHIRPS: usize = 255;
 pub struct ChannelCoefficients<'t> {
     words: &'t [u32],
     blocks: usize,
-    block_len: usize,
     headroom: u32,
 }
 
@@ -296,7 +296,6 @@ impl fmt::Debug for ChannelCoefficients<'_> {
         f.debug_struct("ChannelCoefficients")
             .field("channels", &(self.words.len() / self.blocks.max(1)))
             .field("blocks", &self.blocks)
-            .field("block_len", &self.block_len)
             .field("headroom", &self.headroom)
             .finish()
     }
@@ -397,6 +396,7 @@ impl Edge {
             chirps: config.chirps_per_frame(),
             bin_m: config.range_bin_size(config.range_fft_len()),
             tx_order: config.tx_order.clone(),
+            tx: config.tx_positions.len(),
         })
     }
 
@@ -456,7 +456,6 @@ impl Edge {
         Ok(ChannelCoefficients {
             words,
             blocks,
-            block_len: cal::block_len(self.n),
             headroom,
         })
     }
@@ -481,6 +480,11 @@ impl Edge {
     /// ADC samples per chirp N.
     pub fn samples(&self) -> u16 {
         self.n as u16
+    }
+
+    /// Transmitters of the board (`tx_positions`).
+    pub fn tx_count(&self) -> usize {
+        self.tx
     }
 
     /// Receivers per chirp.
@@ -535,6 +539,36 @@ impl Edge {
         Ok(FrameSum::new(arena, self.array.elements(), self.n, self.m)?)
     }
 
+    /// The table [`Self::calibrate`] filled (`words`, with the headroom it chose), viewed again
+    /// for a later frame.
+    ///
+    /// # Errors
+    /// [`PipelineError::Calibration`] if `words` is shorter than [`Self::calibration_words`]
+    /// or `headroom` is not this configuration's.
+    pub fn coefficients<'t>(
+        &self,
+        words: &'t [u32],
+        headroom: u32,
+    ) -> Result<ChannelCoefficients<'t>, PipelineError> {
+        let per_element = self.chirps_per_element();
+        let expected = usize::BITS - per_element.leading_zeros();
+        let Some(words) = words.get(..self.calibration_words()) else {
+            return Err(CalibrationError::Length.into());
+        };
+        if headroom != expected || per_element > MAX_CALIBRATED_CHIRPS {
+            return Err(CalibrationError::Chirps {
+                per_element,
+                max: MAX_CALIBRATED_CHIRPS,
+            }
+            .into());
+        }
+        Ok(ChannelCoefficients {
+            words,
+            blocks: cal::blocks(self.n),
+            headroom,
+        })
+    }
+
     /// Starts a frame in `arena` whose chirps are calibrated by `coefficients` as they are
     /// summed ([`Self::push_calibrated`]).
     ///
@@ -587,7 +621,7 @@ impl Edge {
             (Some(e), Some(row)) if rx < self.rx => (e, row),
             _ => return Err(PipelineError::Chirp { chirp, rx }),
         };
-        Ok(frame.add_calibrated(element, samples, row, coefficients.block_len)?)
+        Ok(frame.add_calibrated(element, samples, row)?)
     }
 
     /// Adds chirp `chirp` of the frame (loop-major: slot `chirp % slots`) of receiver `rx`. O(N).

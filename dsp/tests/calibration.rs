@@ -10,7 +10,7 @@ use metamoran_dsp::pipeline::{ChannelCoefficients, Edge, MAX_CALIBRATED_CHIRPS};
 use metamoran_dsp::range::calibration::{AppliedCalibration, Calibration, Correction};
 use std::f64::consts::PI;
 
-const N: usize = 64;
+const N: usize = 256;
 const BIN_M: f64 = 0.1;
 
 /// 2 TX × 4 RX at positions 0..8, 64 samples, 0.1 m bins, `loops` loops.
@@ -159,7 +159,7 @@ fn the_modules_calibrated_sums_give_the_perfect_boards_spectra() {
         relative_error(&scaled, &module),
         relative_error(&scaled, &recorded),
     );
-    // Block coefficients: the phase within a 4-sample block is off by up to π·0.45·4/64.
+    // Block coefficients: the phase within a 16-sample block is off by up to π·0.45·16/256.
     assert!(e_host < 0.01, "host per-sample calibration off by {e_host}");
     assert!(
         e_module < 0.05,

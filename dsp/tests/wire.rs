@@ -157,7 +157,14 @@ fn the_largest_downlink_messages_fit_a_frame() {
             })
             .collect(),
     };
-    for m in [hint, Downlink::Config(cfg), go] {
+    // A 16-RX calibration row with every varint at its longest.
+    let row = Downlink::Calibration(metamoran_dsp::wire::CalibrationRow {
+        tx: 255,
+        of: 255,
+        gains: (0..16).map(|_| (i16::MIN, i16::MIN)).collect(),
+        steps: (0..16).map(|_| u32::MAX).collect(),
+    });
+    for m in [hint, Downlink::Config(cfg), go, row] {
         let f = encode(&mut tx, &m);
         assert!(f.len() <= MAX_WIRE);
         let got: Vec<Downlink> = receive(&mut rx, &f)

@@ -52,15 +52,52 @@ fn shape(u: f32) -> (f32, f32) {
 /// Chirp `chirp` of receiver `rx` into `out`: five scatterers per object (60 LSB each), the
 /// clutter, and ±2 LSB of noise.
 pub fn chirp(config: &RadarConfig, chirp: usize, rx: usize, out: &mut [CQ15]) {
-    let channel = (chirp % config.slots()) * config.rx_count() + rx;
+    synthesize(config, chirp, rx, false, out);
+}
+
+/// [`chirp`] as an imperfect board records it: each (TX, RX) channel with its own gain, phase
+/// and delay ([`board_error`]), which [`calibration`] undoes.
+pub fn chirp_on_board(config: &RadarConfig, chirp: usize, rx: usize, out: &mut [CQ15]) {
+    synthesize(config, chirp, rx, true, out);
+}
+
+/// Channel `k` (= TX · RX count + RX)'s error on the imperfect board: gain 0.6…1, phase in
+/// half-turns (±0.9), delay in range bins (±0.3).
+pub fn board_error(k: usize) -> (f32, f32, f32) {
+    use metamoran_dsp::trig::cos_sin_pi;
+    let k = k as f32;
+    (
+        0.8 + 0.2 * cos_sin_pi(0.37 * k).0,
+        0.9 * cos_sin_pi(0.22 * k).1,
+        0.3 * cos_sin_pi(0.1 * k).0,
+    )
+}
+
+fn synthesize(config: &RadarConfig, chirp: usize, rx: usize, board: bool, out: &mut [CQ15]) {
+    let slot = chirp % config.slots();
+    let channel = slot * config.rx_count() + rx;
     let p = config.channel_position(channel).unwrap_or(0) as u32;
     let bin_m = config.range_bin_size(N) as f64;
+    let tx = config.tx_order.get(slot).map_or(0, |&t| usize::from(t));
+    let (gain, half_turns_off, bins) = if board {
+        board_error(tx * config.rx_count() + rx)
+    } else {
+        (1.0, 0.0, 0.0)
+    };
+    let (offset, drift) = (
+        Phase::from_turns(f64::from(half_turns_off) / 2.0).0,
+        Phase::from_turns(f64::from(bins) / N as f64).0,
+    );
     let mut acc = [(0i32, 0i32); N];
     let mut add = |range: f32, sin_az: f32, amplitude: i32, seed: u32| {
-        let inc = Phase::from_turns(range as f64 / bin_m / N as f64).0;
+        let amplitude = (amplitude as f32 * gain) as i32;
+        let inc = Phase::from_turns(range as f64 / bin_m / N as f64)
+            .0
+            .wrapping_add(drift);
         let mut ph = half_turns(sin_az)
             .wrapping_mul(p)
-            .wrapping_add(seed.wrapping_mul(0x9E37_79B9));
+            .wrapping_add(seed.wrapping_mul(0x9E37_79B9))
+            .wrapping_add(offset);
         for a in &mut acc {
             // exp(+jθ) = conj(exp(−jθ)).
             let z = expj_neg(Phase(ph));
@@ -110,4 +147,25 @@ pub fn hints() -> [ObjectHint; 4] {
             })),
         }
     })
+}
+
+/// The calibration that undoes [`board_error`] on every (TX, RX) of [`config`]: gain
+/// `e^{−jφ} / g`, frequency −delay. What the budget frame's calibrated count and the module's
+/// calibration tests apply to [`chirp_on_board`].
+pub fn calibration() -> Option<metamoran_dsp::range::calibration::AppliedCalibration> {
+    use metamoran_dsp::range::calibration::{Calibration, Correction};
+    use metamoran_dsp::trig::cos_sin_pi;
+    let config = config();
+    let (tx, rx) = (config.tx_positions.len(), config.rx_count());
+    let mut cal = Calibration::identity(tx, rx).ok()?;
+    for t in 0..tx {
+        for r in 0..rx {
+            let (g, phase, bins) = board_error(t * rx + r);
+            let (c, s) = cos_sin_pi(phase);
+            let gain = (f64::from(c / g), f64::from(-s / g));
+            cal.set(t, r, Correction::from_f64(gain, -f64::from(bins), N as u16))
+                .ok()?;
+        }
+    }
+    Some(cal.normalized())
 }

@@ -20,14 +20,18 @@ use crate::capture::CaptureSource;
 use crate::clock::Monotonic;
 use embedded_io::{Read, ReadReady, Write};
 use heapless::Vec;
+use metamoran_dsp::array::MAX_CHANNELS;
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
 use metamoran_dsp::fixed::CQ15;
 use metamoran_dsp::pipeline::{Edge, ObjectHint};
+use metamoran_dsp::range::calibration::{self, AppliedCalibration};
+use metamoran_dsp::trig::Phase;
 use metamoran_dsp::wire::message::MAX_OBJECTS;
 use metamoran_dsp::wire::session::fresh_nonce;
 use metamoran_dsp::wire::{
-    Deframer, DeviceKey, Downlink, DropOldest, Fault, FrameSummary, HandshakeDown, HandshakeUp,
-    Health, Hint, MAX_WIRE, Nonce, ObjectResult, Opened, Receiver, Sender, Stream, Uplink,
+    CalibrationRow, Deframer, DeviceKey, Downlink, DropOldest, Fault, FrameSummary, HandshakeDown,
+    HandshakeUp, Health, Hint, MAX_WIRE, Nonce, ObjectResult, Opened, Receiver, Sender, Stream,
+    Uplink,
 };
 use rand_core::TryCryptoRng;
 
@@ -71,7 +75,12 @@ impl Gate {
 /// A frame's summary (without its time), its results, and how many objects failed.
 type FrameResults = (FrameSummary, Vec<ObjectResult, MAX_OBJECTS>, u32);
 
-/// The module's working memory besides the frame arena (about 36 KiB); put it in a static.
+/// Words of the channel calibration's block coefficients: every channel of the largest board
+/// (32 KiB).
+pub const CALIBRATION_WORDS: usize = MAX_CHANNELS * calibration::BLOCKS;
+
+/// The module's working memory besides the frame arena (about 68 KiB, half of it the
+/// calibration table); put it in a static.
 pub struct Scratch {
     bytes: [u8; 4 * MAX_SAMPLES],
     chirp: [CQ15; MAX_SAMPLES],
@@ -79,6 +88,7 @@ pub struct Scratch {
     azimuth: [CQ15; 256],
     powers: [u64; 768],
     scores: [f32; MAX_SAMPLES],
+    calibration: [u32; CALIBRATION_WORDS],
 }
 
 impl Scratch {
@@ -91,8 +101,26 @@ impl Scratch {
             azimuth: [CQ15::from_raw(0, 0); 256],
             powers: [0; 768],
             scores: [0.0; MAX_SAMPLES],
+            calibration: [0; CALIBRATION_WORDS],
         }
     }
+}
+
+/// The channel calibration as it arrives: rows by TX until all have come, then the block
+/// coefficients in [`Scratch`] with their headroom.
+// One lives in the module's state, by value: there is no allocator to box the 2 KiB rows into.
+#[allow(clippy::large_enum_variant)]
+enum Calibrating {
+    /// None sent since the configuration: frames are summed as recorded.
+    Off,
+    /// Rows received so far (a bit per TX) of a calibration of `of` rows.
+    Partial {
+        rows: u32,
+        of: u8,
+        calibration: AppliedCalibration,
+    },
+    /// Every row came: the table holds the coefficients for this headroom.
+    On { headroom: u32 },
 }
 
 impl Default for Scratch {
@@ -121,6 +149,7 @@ pub struct Module<'m, C, L, K, R> {
     arena: &'m mut [u32],
     scratch: &'m mut Scratch,
     edge: Option<Edge>,
+    calibrating: Calibrating,
     hints: Vec<ObjectHint, MAX_OBJECTS>,
     hints_frame: u32,
     /// Next frame the capture source will deliver (past `u32::MAX` after the last one).
@@ -168,6 +197,7 @@ where
             arena,
             scratch,
             edge: None,
+            calibrating: Calibrating::Off,
             hints: Vec::new(),
             hints_frame: 0,
             next_frame: 0,
@@ -329,7 +359,9 @@ where
                 };
                 self.next_frame = 0;
                 self.hints.clear();
+                self.calibrating = Calibrating::Off;
             }
+            Downlink::Calibration(row) => self.calibration_row(&row),
             Downlink::Hint(h) => self.hint(&h),
             Downlink::Frame { frame, objects, .. } => {
                 if self.hints_frame != frame {
@@ -350,6 +382,77 @@ where
             }
         }
         false
+    }
+
+    /// Takes one TX's row of the channel calibration; with the last one, fills the block
+    /// coefficients. A row that does not fit the configuration discards the calibration (the
+    /// frames then fail until a whole one arrives: they are never summed half calibrated).
+    fn calibration_row(&mut self, row: &CalibrationRow) {
+        let Some(edge) = self.edge.as_ref() else {
+            self.health.protocol_errors += 1;
+            return self.fault(0, Fault::NoConfig);
+        };
+        let (tx_count, rx_count) = (edge.tx_count(), edge.rx_count());
+        let fits = usize::from(row.of) == tx_count
+            && usize::from(row.tx) < tx_count
+            && row.gains.len() == rx_count
+            && row.steps.len() == rx_count;
+        let state = core::mem::replace(&mut self.calibrating, Calibrating::Off);
+        let (mut rows, mut calibration) = match state {
+            Calibrating::Partial {
+                rows,
+                of,
+                calibration,
+            } if of == row.of => (rows, calibration),
+            _ => match AppliedCalibration::identity(tx_count, rx_count) {
+                Ok(c) => (0, c),
+                Err(_) => {
+                    self.health.pipeline_errors += 1;
+                    return self.fault(0, Fault::Config);
+                }
+            },
+        };
+        let mut ok = fits;
+        for (r, (&(re, im), &step)) in row.gains.iter().zip(&row.steps).enumerate() {
+            ok &= calibration
+                .set(usize::from(row.tx), r, CQ15::from_raw(re, im), Phase(step))
+                .is_ok();
+        }
+        if !ok {
+            self.health.protocol_errors += 1;
+            self.calibrating = Calibrating::Partial {
+                rows: 0,
+                of: 0,
+                calibration,
+            };
+            return self.fault(0, Fault::Config);
+        }
+        rows |= 1 << row.tx;
+        if rows.count_ones() as usize != tx_count {
+            self.calibrating = Calibrating::Partial {
+                rows,
+                of: row.of,
+                calibration,
+            };
+            return;
+        }
+        match edge.calibrate(&calibration, &mut self.scratch.calibration) {
+            Ok(c) => {
+                crate::info!("calibrated: headroom {=u32} bits", c.headroom());
+                self.calibrating = Calibrating::On {
+                    headroom: c.headroom(),
+                };
+            }
+            Err(_) => {
+                self.health.pipeline_errors += 1;
+                self.calibrating = Calibrating::Partial {
+                    rows: 0,
+                    of: 0,
+                    calibration,
+                };
+                self.fault(0, Fault::Config);
+            }
+        }
     }
 
     fn hint(&mut self, h: &Hint) {
@@ -415,7 +518,20 @@ where
             self.next_frame += 1;
         }
         self.next_frame = wanted + 1;
-        let mut sum = edge.start(self.arena).map_err(|_| Fault::Config)?;
+        // A calibration that is not whole is never applied, nor is it ignored.
+        let coefficients = match &self.calibrating {
+            Calibrating::Off => None,
+            Calibrating::Partial { .. } => return Err(Fault::Config),
+            Calibrating::On { headroom } => Some(
+                edge.coefficients(&s.calibration, *headroom)
+                    .map_err(|_| Fault::Config)?,
+            ),
+        };
+        let mut sum = match &coefficients {
+            None => edge.start(self.arena),
+            Some(c) => edge.start_calibrated(self.arena, c),
+        }
+        .map_err(|_| Fault::Config)?;
         let rx = edge.rx_count();
         for row in 0..rows {
             let ok = self.capture.read_exact(bytes).is_ok()
@@ -424,8 +540,11 @@ where
                 return Err(Fault::Capture);
             }
             let (chirp_index, rx_index) = (row.checked_div(rx), row.checked_rem(rx));
-            let pushed = match (chirp_index, rx_index) {
-                (Some(c), Some(r)) => edge.push(&mut sum, c, r, chirp).is_ok(),
+            let pushed = match (chirp_index, rx_index, &coefficients) {
+                (Some(c), Some(r), None) => edge.push(&mut sum, c, r, chirp).is_ok(),
+                (Some(c), Some(r), Some(k)) => {
+                    edge.push_calibrated(&mut sum, c, r, chirp, k).is_ok()
+                }
                 _ => false,
             };
             if !pushed {
@@ -764,6 +883,136 @@ mod tests {
             (0, 4, 4)
         );
         assert_eq!(m.health().frames, 1);
+    }
+
+    /// The rows of `cal` as the host sends them.
+    fn rows(cal: &AppliedCalibration) -> StdVec<Downlink> {
+        let (tx, rx) = cal.size();
+        (0..tx)
+            .map(|t| {
+                let row = (0..rx).map(|r| cal.get(t, r).unwrap());
+                Downlink::Calibration(CalibrationRow {
+                    tx: t as u8,
+                    of: tx as u8,
+                    gains: row.clone().map(|(g, _)| (g.re.0, g.im.0)).collect(),
+                    steps: row.map(|(_, p)| p.0).collect(),
+                })
+            })
+            .collect()
+    }
+
+    /// The module's results of frame 0 after `before` (downlink messages).
+    fn results_after(before: &[Downlink]) -> (StdVec<Uplink>, Health) {
+        let mut host = Host::new();
+        let mut rig = Rig::new(1);
+        let mut m = rig.module(MockLink::default(), &mut host);
+        for msg in before {
+            send(&mut m, &host.frame(msg));
+        }
+        let hints = bench_scene::hints();
+        for h in &hints {
+            send(&mut m, &host.frame(&Downlink::Hint(h.to_wire(0))));
+        }
+        send(
+            &mut m,
+            &host.frame(&Downlink::Frame {
+                frame: 0,
+                objects: hints.len() as u8,
+                clutter: Vec::new(),
+            }),
+        );
+        let up = host
+            .decode(&m.link.tx)
+            .into_iter()
+            .map(Result::unwrap)
+            .collect();
+        (up, m.health())
+    }
+
+    #[test]
+    fn a_calibration_sent_over_the_link_is_applied_in_the_range_stage() {
+        let config = bench_scene::config();
+        let cal = bench_scene::calibration().unwrap();
+        let mut msgs = vec![Downlink::Config(config.clone())];
+        msgs.extend(rows(&cal));
+        let (up, health) = results_after(&msgs);
+        // The same frame through the calibrated pipeline directly.
+        let edge = Edge::new(&config).unwrap();
+        let mut table = vec![0u32; edge.calibration_words()];
+        let k = edge.calibrate(&cal, &mut table).unwrap();
+        let mut arena = vec![0u32; edge.arena_words()];
+        let mut sum = edge.start_calibrated(&mut arena, &k).unwrap();
+        let mut chirp = vec![CQ15::from_raw(0, 0); bench_scene::N];
+        for c in 0..config.chirps_per_frame() {
+            for rx in 0..config.rx_count() {
+                bench_scene::chirp(&config, c, rx, &mut chirp);
+                edge.push_calibrated(&mut sum, c, rx, &chirp, &k).unwrap();
+            }
+        }
+        let (mut row, mut az, mut pw) = (
+            vec![CQ15::from_raw(0, 0); 512],
+            [CQ15::from_raw(0, 0); 256],
+            [0u64; 768],
+        );
+        let mut scene = edge.finish(sum, &mut row, &mut az, &mut pw).unwrap();
+        let mut scores = vec![0.0f32; 512];
+        let expected: StdVec<ObjectResult> = bench_scene::hints()
+            .iter()
+            .map(|h| {
+                let h = ObjectHint::from_wire(&h.to_wire(0));
+                edge.object(&mut scene, &h, &mut scores).unwrap().to_wire()
+            })
+            .collect();
+        let Uplink::Results { objects, .. } = &up[0] else {
+            panic!("expected results, got {:?}", up[0]);
+        };
+        assert_eq!(&objects[..], &expected[..]);
+        assert_eq!(health.frames, 1);
+        // Not the uncalibrated answer.
+        let (plain, _) = results_after(&msgs[..1]);
+        let Uplink::Results { objects: raw, .. } = &plain[0] else {
+            panic!("{:?}", plain[0]);
+        };
+        assert_ne!(raw, objects, "the calibration changed nothing");
+    }
+
+    #[test]
+    fn a_partial_calibration_fails_the_frames_until_it_is_whole_or_cleared() {
+        let config = bench_scene::config();
+        let all = rows(&bench_scene::calibration().unwrap());
+        let mut msgs = vec![Downlink::Config(config.clone())];
+        msgs.extend(all[..all.len() - 1].iter().cloned());
+        let (up, health) = results_after(&msgs);
+        assert!(
+            up.iter().all(|u| !matches!(u, Uplink::Results { .. })),
+            "{up:?}"
+        );
+        assert!(up.iter().any(|u| matches!(
+            u,
+            Uplink::Fault {
+                fault: Fault::Config,
+                ..
+            }
+        )));
+        assert_eq!(health.frames, 0);
+        // A row for another board's size discards the calibration.
+        let Downlink::Calibration(mut bad) = all[0].clone() else {
+            unreachable!()
+        };
+        bad.gains.pop();
+        let mut wrong = vec![Downlink::Config(config.clone()), Downlink::Calibration(bad)];
+        wrong.extend(all[1..].iter().cloned());
+        let (up, health) = results_after(&wrong);
+        assert!(
+            up.iter().all(|u| !matches!(u, Uplink::Results { .. })),
+            "{up:?}"
+        );
+        assert!(health.protocol_errors >= 1);
+        // A new configuration clears it: the frame is summed as recorded.
+        msgs.push(Downlink::Config(config));
+        let (up, health) = results_after(&msgs);
+        assert!(matches!(up[0], Uplink::Results { .. }), "{up:?}");
+        assert_eq!(health.frames, 1);
     }
 
     fn faults(up: &[Result<Uplink, LinkError>]) -> StdVec<Fault> {

@@ -270,34 +270,36 @@ fn frame_sum_workload() -> Outcome {
     }
 }
 
-/// Calibrated frame sums (`FrameSum::add_calibrated`: the M7's `SMLSD`/`SMLADX` loop) at
-/// every chirp length 1..=13 (whole four-sample turns and the tails), full-scale noise times
-/// full-scale and noise coefficients, three chirps into each of two elements, then the spectra.
+/// Calibrated frame sums (`FrameSum::add_calibrated`: the M7's unrolled `SMLSD`/`SMLADX`
+/// blocks) at chirp lengths across whole 16-sample blocks and short last ones, full-scale noise
+/// times full-scale and noise coefficients, three chirps into each of two elements, then the
+/// spectra.
 fn calibrated_sum_workload() -> Outcome {
     use metamoran_dsp::range::FrameSum;
     use metamoran_dsp::range::frame_sum::pack;
+    const MAX: usize = 40;
     let mut h = Fnv::default();
     let mut exponents = 0u32;
     let mut failed = false;
-    let mut chirp = [CQ15::default(); 13];
-    let mut c = [CQ15::default(); 4];
+    let mut chirp = [CQ15::default(); MAX];
+    let mut c = [CQ15::default(); 3];
     noise_q15(7, Q15(8192), &mut c);
     c[0] = CQ15::from_raw(-8192, -8192);
     let coefficients = c.map(pack);
-    for n in 1..=13usize {
-        let mut arena = [0u32; FrameSum::words_needed(2, 13, 16)];
-        let Ok(mut frame) = FrameSum::new_calibrated(&mut arena, 2, n, 16, 2) else {
+    for n in [1usize, 5, 15, 16, 17, 31, 32, 33, 40] {
+        let mut arena = [0u32; FrameSum::words_needed(2, MAX, 64)];
+        let Ok(mut frame) = FrameSum::new_calibrated(&mut arena, 2, n, 64, 2) else {
             failed = true;
             continue;
         };
         for row in 0..6u32 {
             noise_q15(300 + 10 * n as u32 + row, Q15(32767), &mut chirp[..n]);
             failed |= frame
-                .add_calibrated(row as usize % 2, &chirp[..n], &coefficients, 4)
+                .add_calibrated(row as usize % 2, &chirp[..n], &coefficients)
                 .is_err();
         }
-        let mut scratch = [CQ15::default(); 16];
-        let window = [Q15(32767); 13];
+        let mut scratch = [CQ15::default(); 64];
+        let window = [Q15(32767); MAX];
         match frame.finish(&window[..n], &mut scratch) {
             Ok((spectra, _)) => {
                 exponents = exponents
@@ -311,7 +313,7 @@ fn calibrated_sum_workload() -> Outcome {
         }
     }
     Outcome {
-        name: "calibrated_sum_1_to_13",
+        name: "calibrated_sum_blocks",
         exponent: if failed { u32::MAX } else { exponents },
         hash: h.0,
     }

@@ -139,16 +139,19 @@ impl Calibration {
     /// # Errors
     /// [`CalibrationError::Channel`] for a pair outside the board.
     pub fn set(&mut self, tx: usize, rx: usize, c: Correction) -> Result<(), CalibrationError> {
-        if tx >= self.tx || rx >= self.rx {
-            return Err(CalibrationError::Channel { tx, rx });
+        match self.corrections.get_mut(tx).and_then(|row| row.get_mut(rx)) {
+            Some(slot) if tx < self.tx && rx < self.rx => {
+                *slot = c;
+                Ok(())
+            }
+            _ => Err(CalibrationError::Channel { tx, rx }),
         }
-        self.corrections[tx][rx] = c;
-        Ok(())
     }
 
     /// Channel `(tx, rx)`'s correction, if on the board.
     pub fn get(&self, tx: usize, rx: usize) -> Option<Correction> {
-        (tx < self.tx && rx < self.rx).then(|| self.corrections[tx][rx])
+        let c = self.corrections.get(tx).and_then(|row| row.get(rx));
+        c.copied().filter(|_| tx < self.tx && rx < self.rx)
     }
 
     /// TX and RX counts.
@@ -160,8 +163,8 @@ impl Calibration {
     /// non-finite one, gives zero gains). O(TX · RX).
     pub fn normalized(&self) -> AppliedCalibration {
         let mut peak = 0.0f64;
-        for row in &self.corrections[..self.tx] {
-            for c in &row[..self.rx] {
+        for row in self.corrections.iter().take(self.tx) {
+            for c in row.iter().take(self.rx) {
                 peak = peak.max(libm::hypot(c.gain.0, c.gain.1));
             }
         }
@@ -181,11 +184,11 @@ impl Calibration {
         };
         let mut gains = [[CQ15::default(); MAX_RX]; MAX_TX];
         let mut steps = [[Phase(0); MAX_RX]; MAX_TX];
-        for t in 0..self.tx {
-            for r in 0..self.rx {
-                let c = self.corrections[t][r];
-                gains[t][r] = CQ15::from_raw(q(c.gain.0), q(c.gain.1));
-                steps[t][r] = c.step;
+        let rows = gains.iter_mut().zip(&mut steps).zip(&self.corrections);
+        for ((g, p), c) in rows.take(self.tx) {
+            for ((g, p), c) in g.iter_mut().zip(p.iter_mut()).zip(c).take(self.rx) {
+                *g = CQ15::from_raw(q(c.gain.0), q(c.gain.1));
+                *p = c.step;
             }
         }
         AppliedCalibration {
@@ -224,13 +227,12 @@ impl AppliedCalibration {
         x: &[CQ15],
         out: &mut [CQ15],
     ) -> Result<(), CalibrationError> {
-        if tx >= self.tx || rx >= self.rx {
+        let Some((g, Phase(step))) = self.get(tx, rx) else {
             return Err(CalibrationError::Channel { tx, rx });
-        }
+        };
         if x.len() != out.len() {
             return Err(CalibrationError::Length);
         }
-        let (g, step) = (self.gains[tx][rx], self.steps[tx][rx].0);
         if step == 0 {
             for (o, &v) in out.iter_mut().zip(x) {
                 *o = mul_q15(g, v);
@@ -263,7 +265,11 @@ impl AppliedCalibration {
 
     /// Channel `(tx, rx)`'s Q15 gain and per-sample phase step, if on the board.
     pub fn get(&self, tx: usize, rx: usize) -> Option<(CQ15, Phase)> {
-        (tx < self.tx && rx < self.rx).then(|| (self.gains[tx][rx], self.steps[tx][rx]))
+        let g = self.gains.get(tx).and_then(|row| row.get(rx));
+        let p = self.steps.get(tx).and_then(|row| row.get(rx));
+        g.copied()
+            .zip(p.copied())
+            .filter(|_| tx < self.tx && rx < self.rx)
     }
 
     /// Sets channel `(tx, rx)`'s Q15 gain and per-sample phase step (as [`Self::get`] gives
@@ -278,21 +284,25 @@ impl AppliedCalibration {
         gain: CQ15,
         step: Phase,
     ) -> Result<(), CalibrationError> {
-        if tx >= self.tx || rx >= self.rx {
-            return Err(CalibrationError::Channel { tx, rx });
+        let g = self.gains.get_mut(tx).and_then(|row| row.get_mut(rx));
+        let p = self.steps.get_mut(tx).and_then(|row| row.get_mut(rx));
+        match (g, p) {
+            (Some(g), Some(p)) if tx < self.tx && rx < self.rx => {
+                (*g, *p) = (gain, step);
+                Ok(())
+            }
+            _ => Err(CalibrationError::Channel { tx, rx }),
         }
-        self.gains[tx][rx] = gain;
-        self.steps[tx][rx] = step;
-        Ok(())
     }
 
     /// Channel `(tx, rx)`'s correction of an `n`-sample chirp as one coefficient per block of
-    /// [`block_len`]`(n)` samples (the last block may be shorter), for the module's range
+    /// [`BLOCK_LEN`] samples (the last block may be shorter), for the module's range
     /// stage, which multiplies and sums in one pass (`FrameSum::add_calibrated`): block `b`'s
     /// coefficient is `g · exp(j·2π·step·c_b)` at the block's centre `c_b`, rounded to
     /// Q(15 − `headroom`) so that sums of up to `2^headroom − 1` products stay inside `i32`.
     /// Writes [`blocks`]`(n)` packed words to `out`. The phase within a block is off by at most
-    /// `π · f · L / N` (f the offset in bins: 5.6° for one bin at L/N = 1/32). O(blocks).
+    /// `π · f · L / N` (f the offset in bins, L = 16: 5.6° for one bin at N = 512, 11° at 256).
+    /// O(blocks).
     ///
     /// # Errors
     /// [`CalibrationError`] for a pair outside the board or `out` shorter than the blocks.
@@ -307,7 +317,7 @@ impl AppliedCalibration {
         let Some((g, step)) = self.get(tx, rx) else {
             return Err(CalibrationError::Channel { tx, rx });
         };
-        let (len, count) = (block_len(n), blocks(n));
+        let (len, count) = (BLOCK_LEN, blocks(n));
         let Some(out) = out.get_mut(..count) else {
             return Err(CalibrationError::Length);
         };
@@ -334,21 +344,17 @@ impl AppliedCalibration {
     }
 }
 
-/// Samples per block of [`AppliedCalibration::block_coefficients`] for an `n`-sample chirp:
-/// `n / 32` rounded up to a multiple of 4 (the M7 loop's unit), at least 4.
-pub const fn block_len(n: usize) -> usize {
-    let l = n.div_ceil(BLOCKS);
-    let l = if l < 4 { 4 } else { l };
-    l.div_ceil(4) * 4
-}
+/// Samples per block of [`AppliedCalibration::block_coefficients`]: the M7's unrolled
+/// multiply-accumulate loop's unit (`fft::simd::mac_add_blocks`).
+pub const BLOCK_LEN: usize = 16;
 
-/// Blocks of [`block_len`] in an `n`-sample chirp (at most [`BLOCKS`]).
+/// Blocks of [`BLOCK_LEN`] in an `n`-sample chirp (the last may be short).
 pub const fn blocks(n: usize) -> usize {
-    n.div_ceil(block_len(n))
+    n.div_ceil(BLOCK_LEN)
 }
 
-/// Blocks per chirp of the module's calibration: the coefficient table of a cascade (192
-/// channels) is 24 KiB.
+/// Blocks of the longest chirp the module's calibration table is sized for (512 samples: 32
+/// blocks, 24 KiB for a 192-channel cascade).
 pub const BLOCKS: usize = 32;
 
 #[cfg(test)]
@@ -477,8 +483,7 @@ mod tests {
         let peak = cases.iter().map(|c| c.2.0.hypot(c.2.1)).fold(0.0, f64::max);
         let applied = cal.normalized();
         for (n, headroom) in [(512usize, 4u32), (100, 0), (256, 8)] {
-            let len = block_len(n);
-            assert_eq!(len % 4, 0);
+            let len = BLOCK_LEN;
             assert!(blocks(n) <= BLOCKS && blocks(n) * len >= n && (blocks(n) - 1) * len < n);
             let mut out = vec![0u32; blocks(n)];
             for &(t, r, g, f) in &cases {

@@ -7,7 +7,7 @@
 //! quantizes through the same conversions, so in-process and on-module answers are identical.
 //! This module knows nothing of the pipeline.
 
-use crate::config::RadarConfig;
+use crate::config::{MAX_RX, RadarConfig};
 use crate::search::MAX_CONTOUR;
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
@@ -74,6 +74,23 @@ pub struct Clutter {
     pub class: u8,
 }
 
+/// One TX's row of a channel calibration, in the form the module's range stage applies
+/// (`range::calibration::AppliedCalibration`): per RX a Q15 gain (all rows share one scale) and
+/// a per-sample phase step. A calibration is `of` rows, one per TX; the module applies it once
+/// every row has arrived, and a new `Config` clears it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CalibrationRow {
+    /// TX index (into `tx_positions`).
+    pub tx: u8,
+    /// Rows of the whole calibration: the configuration's TX count.
+    pub of: u8,
+    /// Per RX (into `rx_positions`): the gain (re, im), Q15.
+    pub gains: Vec<(i16, i16), MAX_RX>,
+    /// Per RX: the frequency correction, turns per sample × 2³² (wrapping: negative steps are
+    /// near 2³²).
+    pub steps: Vec<u32, MAX_RX>,
+}
+
 /// Downlink messages.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Downlink {
@@ -94,6 +111,8 @@ pub enum Downlink {
     Health,
     /// Stop: the module sends its health counters and halts.
     Stop,
+    /// One TX's row of the channel calibration (after `Config`, before the frames).
+    Calibration(CalibrationRow),
 }
 
 /// How well one depth candidate explains the data, in one byte: its score's height over the

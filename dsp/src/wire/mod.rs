@@ -26,13 +26,14 @@ pub use auth::{KEY_LEN, Key, KeyError, TAG_LEN};
 pub use frame::{EncodeError, MAX_WIRE, Sender, Stream};
 pub use host::HostLink;
 pub use message::{
-    ALTERNATIVES, Alternative, Downlink, Fault, FrameSummary, Health, Hint, LinkStats,
-    ObjectResult, Score, Uplink,
+    ALTERNATIVES, Alternative, CalibrationRow, Downlink, Fault, FrameSummary, Health, Hint,
+    LinkStats, ObjectResult, Score, Uplink,
 };
 pub use queue::DropOldest;
 pub use receiver::{Deframer, LinkError, Opened, Receiver};
 pub use session::{DeviceKey, HandshakeDown, HandshakeUp, NONCE_LEN, Nonce, SessionKeys};
 
 /// Protocol version: the first byte of every frame. Version 4: each object result carries
-/// three candidates with a [`Score`] (half-dB height and the survival bit) each.
-pub const VERSION: u8 = 4;
+/// three candidates with a [`Score`] (half-dB height and the survival bit) each. Version 5:
+/// the downlink's [`CalibrationRow`]s.
+pub const VERSION: u8 = 5;
