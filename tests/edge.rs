@@ -126,6 +126,92 @@ fn qemu_edge_gives_the_in_process_json_bit_for_bit() {
     assert!(detected >= 3, "too few detections to compare: {detected}");
 }
 
+/// A cascade parking lot on an imperfect board (seeded channel errors) with the calibration
+/// `metamoran calibrate` makes from the board's own corner-reflector capture, named in its
+/// scene.toml (`None`: as recorded).
+fn calibrated_bundle(dir: &Path, calibrated: bool) -> std::path::PathBuf {
+    use metamoran_sim::{Difficulty, Variant, simulate_scene_with, simulate_with};
+    let board = Variant {
+        difficulty: Difficulty::Standard,
+        board: Some(5),
+    };
+    let bundle = simulate_with(
+        Preset::ParkingLot,
+        RadarKind::Cascade,
+        board,
+        74,
+        1,
+        dir,
+        &|| (),
+    )
+    .unwrap()
+    .remove(0);
+    if !calibrated {
+        return bundle;
+    }
+    let corner = simulate_scene_with(Preset::Corner, RadarKind::Cascade, board, 1, 0);
+    let capture = dir.join("corner.bin");
+    std::fs::write(&capture, &corner.adc).unwrap();
+    let mut file = metamoran_bundle::RadarFile::open(
+        &capture,
+        corner.radar,
+        metamoran_dsp::capture::IqOrder::Iiqq,
+    )
+    .unwrap();
+    let means = metamoran_process::calibrate::ChannelMeans::read(&mut file, true).unwrap();
+    let m = metamoran_process::calibrate::calibrate(&means, Default::default()).unwrap();
+    std::fs::write(bundle.join("calibration.toml"), m.file.to_toml()).unwrap();
+    let scene = std::fs::read_to_string(bundle.join("scene.toml")).unwrap();
+    let scene = scene.replacen(
+        "adc_file",
+        "calibration_file = \"calibration.toml\"\nadc_file",
+        1,
+    );
+    std::fs::write(bundle.join("scene.toml"), scene).unwrap();
+    bundle
+}
+
+#[test]
+fn qemu_edge_applies_the_bundles_calibration_bit_for_bit() {
+    if !qemu_available() {
+        assert!(!oracles_required(), "qemu-system-arm is required");
+        eprintln!("SKIPPED: qemu-system-arm not installed");
+        return;
+    }
+    let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let (calibrated, recorded) = (
+        calibrated_bundle(a.path(), true),
+        calibrated_bundle(b.path(), false),
+    );
+    let here = json(&calibrated, Runner::InProcess).unwrap();
+    let module = json(&calibrated, qemu()).unwrap();
+    assert_eq!(
+        module, here,
+        "the module's calibrated answer differs from the host's"
+    );
+    // The calibration is what makes the imperfect board work: objects within 1 m of the truth.
+    let within = |bundle: &Path| {
+        let out = process(bundle, &ProcessOptions::mode(Mode::Metamoran)).unwrap();
+        let truth = metamoran_bundle::Truth::read(&bundle.join("truth.json"), 1).unwrap();
+        let mut near = 0;
+        for o in &out.frames[0].objects {
+            let t = truth.frames[0]
+                .objects
+                .iter()
+                .find(|t| t.instance == o.instance);
+            if let (Some(t), Some(d), true) = (t, o.depth_m, o.detected) {
+                near += usize::from((d - t.depth_m).abs() < 1.0);
+            }
+        }
+        (near, out.frames[0].objects.len())
+    };
+    let ((good, of), (bad, _)) = (within(&calibrated), within(&recorded));
+    assert!(
+        good > bad && 2 * good > of,
+        "within 1 m: calibrated {good} of {of}, as recorded {bad}"
+    );
+}
+
 #[test]
 fn qemu_edge_refuses_a_wrong_link_key() {
     if !qemu_available() {

@@ -98,6 +98,8 @@ pub enum CalibrationError {
     },
 }
 
+impl core::error::Error for CalibrationError {}
+
 impl core::fmt::Display for CalibrationError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match *self {

@@ -235,6 +235,24 @@ impl Bundle {
         self.radar.read_frame(frame, out)
     }
 
+    /// Reads frame `frame`'s samples as recorded (the calibration not applied); see
+    /// [`RadarFile::read_raw_frame`].
+    ///
+    /// # Errors
+    /// [`InputError`] if the frame cannot be read.
+    pub fn read_raw_radar_frame(
+        &mut self,
+        frame: u32,
+        out: &mut Vec<CQ15>,
+    ) -> Result<(), InputError> {
+        self.radar.read_raw_frame(frame, out)
+    }
+
+    /// The channel calibration the radar frames are read with, if the bundle names one.
+    pub fn calibration(&self) -> Option<&metamoran_dsp::range::calibration::AppliedCalibration> {
+        self.radar.calibration()
+    }
+
     /// Decodes the camera products of frame `frame`, checking that every mask id is listed;
     /// products the camera models make come from `F_image.png` instead.
     ///

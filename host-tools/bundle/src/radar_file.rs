@@ -235,6 +235,11 @@ impl RadarFile {
         self.calibration.is_some()
     }
 
+    /// The calibration [`Self::read_frame`] applies, in Q15 form (what the module is sent).
+    pub fn calibration(&self) -> Option<&AppliedCalibration> {
+        self.calibration.as_ref()
+    }
+
     /// Reads frame `frame` into `out` (resized to one frame): `[chirp][rx][sample]`, chirps in
     /// loop-major TDM order, calibrated if [`Self::calibrate`] was called (the range stage's
     /// first step, [`metamoran_dsp::range::calibration`]).

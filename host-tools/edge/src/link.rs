@@ -6,9 +6,10 @@
 
 use crate::{EdgeError, keys, qemu};
 use metamoran_dsp::config::RadarConfig;
+use metamoran_dsp::range::calibration::AppliedCalibration;
 use metamoran_dsp::wire::{
-    Deframer, DeviceKey, Downlink, Fault, HandshakeUp, Health, Hint, HostLink, LinkError, MAX_WIRE,
-    ObjectResult, Opened, Uplink,
+    CalibrationRow, Deframer, DeviceKey, Downlink, Fault, HandshakeUp, Health, Hint, HostLink,
+    LinkError, MAX_WIRE, ObjectResult, Opened, Uplink,
 };
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -189,18 +190,40 @@ impl QemuEdge {
     /// [`EdgeError`] if the link fails or the module rejects it.
     pub fn configure(&mut self, config: &RadarConfig) -> Result<(), EdgeError> {
         self.send(&Downlink::Config(config.clone()))?;
-        // The module answers a rejected configuration with a fault; ask for health to sync.
+        self.confirm()
+    }
+
+    /// Sends the channel calibration (after [`Self::configure`]; a new configuration clears
+    /// it): one [`CalibrationRow`] per TX, applied by the module once all have arrived.
+    ///
+    /// # Errors
+    /// [`EdgeError`] if the link fails or the module rejects it (it does not fit the
+    /// configuration, or the frame has more chirps per element than the module calibrates).
+    pub fn calibrate(&mut self, calibration: &AppliedCalibration) -> Result<(), EdgeError> {
+        let (tx, rx) = calibration.size();
+        for t in 0..tx {
+            let row = (0..rx).filter_map(|r| calibration.get(t, r));
+            self.send(&Downlink::Calibration(CalibrationRow {
+                tx: t as u8,
+                of: tx as u8,
+                gains: row.clone().map(|(g, _)| (g.re.0, g.im.0)).collect(),
+                steps: row.map(|(_, step)| step.0).collect(),
+            }))?;
+        }
+        self.confirm()
+    }
+
+    /// Waits for the answer to a health request: a rejected configuration or calibration is
+    /// answered with a fault before it.
+    fn confirm(&mut self) -> Result<(), EdgeError> {
         self.send(&Downlink::Health)?;
         loop {
             match self.receive()? {
-                Uplink::Health(_) => break,
-                Uplink::Fault { fault, .. } => {
-                    return Err(EdgeError::Config(fault));
-                }
+                Uplink::Health(_) => return Ok(()),
+                Uplink::Fault { fault, .. } => return Err(EdgeError::Config(fault)),
                 _ => {}
             }
         }
-        Ok(())
     }
 
     /// Runs frame `frame` with `hints`; returns each hint's result (`None` where the module

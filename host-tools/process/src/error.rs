@@ -58,11 +58,9 @@ pub enum ProcessError {
         "--edge qemu: the module reads radar.bin in the bundle's IIQQ order; convert the capture or use --edge in-process"
     )]
     IqOrder,
-    /// The bundle names a calibration the module cannot apply yet.
-    #[error(
-        "--edge qemu: the bundle names a calibration_file, and the module does not apply channel calibration yet (issue #19); use --edge in-process"
-    )]
-    ModuleCalibration,
+    /// The channel calibration does not fit the frame.
+    #[error("channel calibration: {0}")]
+    ChannelCalibration(#[from] metamoran_dsp::range::calibration::CalibrationError),
     /// No calibration from this capture.
     #[error(transparent)]
     Calibration(#[from] crate::calibrate::CalibrateError),

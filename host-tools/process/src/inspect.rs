@@ -98,9 +98,10 @@ pub fn inspect_frame(bundle: &mut Bundle, frame: u32) -> Result<Vec<ObjectView>,
     }
     let camera = CameraModel::new(&bundle.scene.camera);
     let cam = bundle.camera_frame(frame)?;
+    // As `process` does: the module's share calibrates the frame as recorded while it sums.
     let mut samples = Vec::new();
-    bundle.read_radar_frame(frame, &mut samples)?;
-    let mut scene = StaticScene::new(&bundle.scene.radar, &samples)?;
+    bundle.read_raw_radar_frame(frame, &mut samples)?;
+    let mut scene = StaticScene::calibrated(&bundle.scene.radar, &samples, bundle.calibration())?;
     let bin_m = scene.edge().geometry().bin_m as f64;
     let bins = scene.edge().max_bin();
     let azimuth_deg: Vec<f64> = (0..)

@@ -297,7 +297,7 @@ pub fn process_streamed(
         remove_static: false,
     };
     let mut proc = FrameProcessor::new(&bundle.scene.radar, frame_options)?;
-    let mut samples = Vec::new();
+    let (mut samples, mut raw) = (Vec::new(), Vec::new());
     let mut frames = Vec::new();
     let mut stopped = None;
     let max_range_m = bundle.scene.radar.max_range_m();
@@ -311,10 +311,17 @@ pub fn process_streamed(
                 Mode::Monocular => objects.iter().map(monocular::estimate).collect(),
                 Mode::Metamoran => {
                     bundle.read_radar_frame(f, &mut samples)?;
+                    // The module calibrates as it sums: its share takes the frame as recorded.
+                    let recorded = if bundle.calibration().is_some() {
+                        bundle.read_raw_radar_frame(f, &mut raw)?;
+                        &raw
+                    } else {
+                        &samples
+                    };
                     metamoran_frame(
                         &bundle,
                         f,
-                        &samples,
+                        (&samples, recorded),
                         &objects,
                         module.as_mut().map(|m| &mut m.edge),
                     )?
@@ -398,9 +405,6 @@ fn start_module(bundle: &Bundle, options: &ProcessOptions) -> Result<Option<Modu
     if options.open.iq_order != metamoran_dsp::capture::IqOrder::Iiqq {
         return Err(ProcessError::IqOrder);
     }
-    if bundle.scene.calibration_file.is_some() {
-        return Err(ProcessError::ModuleCalibration);
-    }
     // The module reads one file in radar.bin's layout: an MMWCAS capture is copied into one.
     let copy = match bundle.scene.layout {
         metamoran_bundle::AdcLayout::Dca1000 => None,
@@ -420,6 +424,9 @@ fn start_module(bundle: &Bundle, options: &ProcessOptions) -> Result<Option<Modu
         .map_or(bundle.scene.adc_file.as_path(), |t| t.path());
     let mut edge = QemuEdge::start(capture, key_file, firmware)?;
     edge.configure(&bundle.scene.radar)?;
+    if let Some(calibration) = bundle.calibration() {
+        edge.calibrate(calibration)?;
+    }
     Ok(Some(Module {
         edge,
         _capture: copy,
@@ -433,11 +440,13 @@ struct Module {
 }
 
 /// One frame of the Metamoran mode: the static search on `module` (QEMU, over the link) or in
-/// this process, merged with the host's Doppler pass for movers.
+/// this process, merged with the host's Doppler pass for movers. `samples` are the frame
+/// calibrated and as recorded (the same when the bundle names no calibration): the module's
+/// share calibrates as it sums, the Doppler pass takes the calibrated chirps.
 fn metamoran_frame(
     bundle: &Bundle,
     frame: u32,
-    samples: &[metamoran_dsp::fixed::CQ15],
+    (samples, recorded): (&[metamoran_dsp::fixed::CQ15], &[metamoran_dsp::fixed::CQ15]),
     objects: &[CameraObject],
     module: Option<&mut QemuEdge>,
 ) -> Result<Vec<ObjectEstimate>, ProcessError> {
@@ -445,7 +454,7 @@ fn metamoran_frame(
     let moving = metamoran::MovingScene::new(radar, samples)?;
     let beamwidth = metamoran::beamwidth_deg(&metamoran_dsp::array::VirtualArray::new(radar)?);
     let Some(q) = module else {
-        let mut scene = metamoran::StaticScene::new(radar, samples)?;
+        let mut scene = metamoran::StaticScene::calibrated(radar, recorded, bundle.calibration())?;
         return Ok(objects
             .iter()
             .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))

@@ -13,6 +13,7 @@ use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::fft::C32;
 use metamoran_dsp::fixed::CQ15;
 use metamoran_dsp::pipeline::{Edge, FrameScene, ObjectHint, ObjectReport};
+use metamoran_dsp::range::calibration::AppliedCalibration;
 use metamoran_dsp::range::{Spectra, StaticSum};
 use metamoran_dsp::search::Contour;
 use metamoran_dsp::search::depth::{SearchResult, brute_force, coarse_to_fine, profile_words};
@@ -43,7 +44,26 @@ impl StaticScene {
     /// # Errors
     /// [`ProcessError`] if the frame does not match the configuration.
     pub fn new(config: &RadarConfig, frame: &[CQ15]) -> Result<Self, ProcessError> {
+        Self::calibrated(config, frame, None)
+    }
+
+    /// [`Self::new`] of a frame as recorded, calibrated by `calibration` the way the module
+    /// does it (block coefficients multiplied as chirps are summed), so that the in-process
+    /// answer is the module's bit for bit; the reference sums take the per-sample calibration.
+    ///
+    /// # Errors
+    /// [`ProcessError`] if the frame does not match the configuration or the calibration.
+    pub fn calibrated(
+        config: &RadarConfig,
+        frame: &[CQ15],
+        calibration: Option<&AppliedCalibration>,
+    ) -> Result<Self, ProcessError> {
         let edge = Edge::new(config)?;
+        let mut table = vec![0u32; edge.calibration_words()];
+        let coefficients = calibration
+            .map(|c| edge.calibrate(c, &mut table))
+            .transpose()?;
+        let mut calibrated_chirp = vec![CQ15::default(); config.adc_samples as usize];
         let (n, m, rx) = (
             config.adc_samples as usize,
             edge.fft_len(),
@@ -54,15 +74,29 @@ impl StaticScene {
         let mut samples = vec![C32::new(0.0, 0.0); elements * n];
         let mut sum = StaticSum::new(&mut samples, n)?;
         let (exponent, peaks) = {
-            let mut frame_sum = edge.start(&mut arena)?;
+            let mut frame_sum = match &coefficients {
+                None => edge.start(&mut arena)?,
+                Some(k) => edge.start_calibrated(&mut arena, k)?,
+            };
             for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
                 for (r, s) in rows.chunks_exact(n).enumerate() {
-                    edge.push(&mut frame_sum, chirp, r, s)?;
+                    let slot = chirp % config.slots();
                     let element = edge
                         .array()
-                        .element_of((chirp % config.slots()) * rx + r)
+                        .element_of(slot * rx + r)
                         .ok_or(ProcessError::Channel)?;
-                    sum.push(element, s)?;
+                    match (&coefficients, calibration) {
+                        (Some(k), Some(c)) => {
+                            edge.push_calibrated(&mut frame_sum, chirp, r, s, k)?;
+                            let tx = config.tx_order.get(slot).copied().unwrap_or(u8::MAX);
+                            c.apply(usize::from(tx), r, s, &mut calibrated_chirp)?;
+                            sum.push(element, &calibrated_chirp)?;
+                        }
+                        _ => {
+                            edge.push(&mut frame_sum, chirp, r, s)?;
+                            sum.push(element, s)?;
+                        }
+                    }
                 }
             }
             let mut row = vec![CQ15::default(); m];
