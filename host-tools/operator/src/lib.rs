@@ -2,7 +2,9 @@
 //! detections into zone alerts with hysteresis; [`outputs`] writes the run's files
 //! (`results.json`, KITTI depth PNGs and PLY clouds through [`depth_image`], `recording.mcap`
 //! through [`record`], inspection plots through [`plot`] and [`inspect`]); [`live`] draws the
-//! operator view on a terminal; [`mqtt`] publishes objects, alerts and status to a broker.
+//! operator view on a terminal; [`mqtt`] publishes objects, alerts and status to a broker;
+//! [`tracking`] keeps objects' ids across frames (a tracker in the ground plane and its
+//! CLEAR-MOT score).
 //!
 //! It sits above `metamoran-process` (it consumes its results) and below the `metamoran` binary.
 
@@ -16,5 +18,6 @@ pub mod mqtt;
 pub mod outputs;
 pub mod plot;
 pub mod record;
+pub mod tracking;
 
 pub use error::OperatorError;
