@@ -841,32 +841,7 @@ mod tests {
             .map(Result::unwrap)
             .collect();
         // The same frame through the pipeline directly.
-        let config = bench_scene::config();
-        let edge = Edge::new(&config).unwrap();
-        let mut arena = vec![0u32; edge.arena_words()];
-        let mut sum = edge.start(&mut arena).unwrap();
-        let mut chirp = vec![CQ15::from_raw(0, 0); bench_scene::N];
-        for c in 0..config.chirps_per_frame() {
-            for rx in 0..config.rx_count() {
-                bench_scene::chirp(&config, c, rx, &mut chirp);
-                edge.push(&mut sum, c, rx, &chirp).unwrap();
-            }
-        }
-        let (mut row, mut az, mut pw) = (
-            vec![CQ15::from_raw(0, 0); 512],
-            [CQ15::from_raw(0, 0); 256],
-            [0u64; 768],
-        );
-        let mut scene = edge.finish(sum, &mut row, &mut az, &mut pw).unwrap();
-        let mut scores = vec![0.0f32; 512];
-        let expected: StdVec<ObjectResult> = hints
-            .iter()
-            .map(|h| {
-                let h = ObjectHint::from_wire(&h.to_wire(0));
-                let r = edge.object(&mut scene, &h, &mut scores).unwrap();
-                r.to_wire()
-            })
-            .collect();
+        let expected = direct(None);
         let Uplink::Results { summary, objects } = &up[0] else {
             panic!("expected results, got {:?}", up[0]);
         };
@@ -883,6 +858,45 @@ mod tests {
             (0, 4, 4)
         );
         assert_eq!(m.health().frames, 1);
+    }
+
+    /// The budget scene's results through the pipeline directly (not the module), calibrated
+    /// by `calibration` as it is summed when given.
+    fn direct(calibration: Option<&AppliedCalibration>) -> StdVec<ObjectResult> {
+        let config = bench_scene::config();
+        let edge = Edge::new(&config).unwrap();
+        let mut table = vec![0u32; edge.calibration_words()];
+        let k = calibration.map(|c| edge.calibrate(c, &mut table).unwrap());
+        let mut arena = vec![0u32; edge.arena_words()];
+        let mut sum = match &k {
+            None => edge.start(&mut arena).unwrap(),
+            Some(k) => edge.start_calibrated(&mut arena, k).unwrap(),
+        };
+        let mut chirp = vec![CQ15::from_raw(0, 0); bench_scene::N];
+        for c in 0..config.chirps_per_frame() {
+            for rx in 0..config.rx_count() {
+                bench_scene::chirp(&config, c, rx, &mut chirp);
+                match &k {
+                    None => edge.push(&mut sum, c, rx, &chirp),
+                    Some(k) => edge.push_calibrated(&mut sum, c, rx, &chirp, k),
+                }
+                .unwrap();
+            }
+        }
+        let (mut row, mut az, mut pw) = (
+            vec![CQ15::from_raw(0, 0); 512],
+            [CQ15::from_raw(0, 0); 256],
+            [0u64; 768],
+        );
+        let mut scene = edge.finish(sum, &mut row, &mut az, &mut pw).unwrap();
+        let mut scores = vec![0.0f32; 512];
+        bench_scene::hints()
+            .iter()
+            .map(|h| {
+                let h = ObjectHint::from_wire(&h.to_wire(0));
+                edge.object(&mut scene, &h, &mut scores).unwrap().to_wire()
+            })
+            .collect()
     }
 
     /// The rows of `cal` as the host sends them.
@@ -937,32 +951,7 @@ mod tests {
         msgs.extend(rows(&cal));
         let (up, health) = results_after(&msgs);
         // The same frame through the calibrated pipeline directly.
-        let edge = Edge::new(&config).unwrap();
-        let mut table = vec![0u32; edge.calibration_words()];
-        let k = edge.calibrate(&cal, &mut table).unwrap();
-        let mut arena = vec![0u32; edge.arena_words()];
-        let mut sum = edge.start_calibrated(&mut arena, &k).unwrap();
-        let mut chirp = vec![CQ15::from_raw(0, 0); bench_scene::N];
-        for c in 0..config.chirps_per_frame() {
-            for rx in 0..config.rx_count() {
-                bench_scene::chirp(&config, c, rx, &mut chirp);
-                edge.push_calibrated(&mut sum, c, rx, &chirp, &k).unwrap();
-            }
-        }
-        let (mut row, mut az, mut pw) = (
-            vec![CQ15::from_raw(0, 0); 512],
-            [CQ15::from_raw(0, 0); 256],
-            [0u64; 768],
-        );
-        let mut scene = edge.finish(sum, &mut row, &mut az, &mut pw).unwrap();
-        let mut scores = vec![0.0f32; 512];
-        let expected: StdVec<ObjectResult> = bench_scene::hints()
-            .iter()
-            .map(|h| {
-                let h = ObjectHint::from_wire(&h.to_wire(0));
-                edge.object(&mut scene, &h, &mut scores).unwrap().to_wire()
-            })
-            .collect();
+        let expected = direct(Some(&cal));
         let Uplink::Results { objects, .. } = &up[0] else {
             panic!("expected results, got {:?}", up[0]);
         };

@@ -250,24 +250,40 @@ fn frame_sum_workload() -> Outcome {
             failed |= frame.add(row as usize % 2, &chirp[..n]).is_err();
         }
         let mut scratch = [CQ15::default(); 16];
-        let window = [Q15(32767); 9];
-        match frame.finish(&window[..n], &mut scratch) {
-            Ok((spectra, _)) => {
-                exponents = exponents
-                    .wrapping_mul(31)
-                    .wrapping_add(spectra.exponent() as u32);
-                for k in 0..spectra.bins() {
-                    spectra.column(k).iter().for_each(|&w| h.u32(w));
-                }
-            }
-            Err(_) => failed = true,
-        }
+        failed |= !hash_spectra(
+            frame,
+            &[Q15(32767); 9][..n],
+            &mut scratch,
+            &mut h,
+            &mut exponents,
+        );
     }
     Outcome {
         name: "frame_sum_1_to_9",
         exponent: if failed { u32::MAX } else { exponents },
         hash: h.0,
     }
+}
+
+/// Finishes `frame` with `window` and hashes its spectra bin-major into `h` and their exponent
+/// into `exponents`; false if the range stage refused.
+fn hash_spectra(
+    frame: metamoran_dsp::range::FrameSum<'_>,
+    window: &[Q15],
+    scratch: &mut [CQ15],
+    h: &mut Fnv,
+    exponents: &mut u32,
+) -> bool {
+    let Ok((spectra, _)) = frame.finish(window, scratch) else {
+        return false;
+    };
+    *exponents = exponents
+        .wrapping_mul(31)
+        .wrapping_add(spectra.exponent() as u32);
+    for k in 0..spectra.bins() {
+        spectra.column(k).iter().for_each(|&w| h.u32(w));
+    }
+    true
 }
 
 /// Calibrated frame sums (`FrameSum::add_calibrated`: the M7's unrolled `SMLSD`/`SMLADX`
@@ -299,18 +315,13 @@ fn calibrated_sum_workload() -> Outcome {
                 .is_err();
         }
         let mut scratch = [CQ15::default(); 64];
-        let window = [Q15(32767); MAX];
-        match frame.finish(&window[..n], &mut scratch) {
-            Ok((spectra, _)) => {
-                exponents = exponents
-                    .wrapping_mul(31)
-                    .wrapping_add(spectra.exponent() as u32);
-                for k in 0..spectra.bins() {
-                    spectra.column(k).iter().for_each(|&w| h.u32(w));
-                }
-            }
-            Err(_) => failed = true,
-        }
+        failed |= !hash_spectra(
+            frame,
+            &[Q15(32767); MAX][..n],
+            &mut scratch,
+            &mut h,
+            &mut exponents,
+        );
     }
     Outcome {
         name: "calibrated_sum_blocks",

@@ -5,7 +5,7 @@
 //! kept.
 
 use std::net::UdpSocket;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
@@ -141,7 +141,7 @@ fn run_ok(args: &[&str]) -> Output {
 }
 
 /// A simulated 22-frame xWR18xx perimeter bundle in `dir`.
-fn perimeter(dir: &std::path::Path) -> PathBuf {
+fn perimeter(dir: &Path) -> PathBuf {
     run_ok(&[
         "simulate",
         "--preset",
@@ -156,28 +156,41 @@ fn perimeter(dir: &std::path::Path) -> PathBuf {
     dir.join("perimeter-3-0000")
 }
 
-/// `metamoran process BUNDLE --json` on the live stream of `capture` sent with `impair`
-/// (emulator flags): the JSON, stderr and whether it succeeded.
-fn process_live(bundle: &str, capture: &str, impair: &[&str]) -> (serde_json::Value, String, bool) {
+/// `metamoran ARGS --dca1000 PORT --idle-s 0.5` while `dca1000-emulate CAPTURE` (with `send`
+/// flags) streams to it on a free loopback port.
+fn live(args: &[&str], capture: &Path, send: &[&str]) -> Output {
     let port = free_port();
     let to = format!("127.0.0.1:{port}");
-    let o = listen_while_sending(
-        port,
-        &[
-            "process",
-            bundle,
-            "--dca1000",
-            &to,
-            "--idle-s",
-            "0.5",
-            "--json",
-        ],
-        &[
-            &["dca1000-emulate", capture, "--to", &to, "--mbps", "200"][..],
-            impair,
-        ]
-        .concat(),
-    );
+    let listen = [args, &["--dca1000", &to, "--idle-s", "0.5"]].concat();
+    let emulate = [
+        &["dca1000-emulate", capture.to_str().unwrap(), "--to", &to][..],
+        send,
+    ]
+    .concat();
+    listen_while_sending(port, &listen, &emulate)
+}
+
+/// Command arguments as `&str`s.
+fn strs<const N: usize>(a: &[String; N]) -> [&str; N] {
+    a.each_ref().map(String::as_str)
+}
+
+/// The first `kept` of `of` frames of capture `src`, written to `dst`: a stream cut short.
+fn first_frames(src: &Path, dst: &Path, kept: usize, of: usize) -> PathBuf {
+    let bytes = std::fs::read(src).unwrap();
+    std::fs::write(dst, &bytes[..bytes.len() / of * kept]).unwrap();
+    dst.to_owned()
+}
+
+/// `metamoran process BUNDLE --json` on the live stream of `capture` sent with `impair`
+/// (emulator flags): the JSON, stderr and whether it succeeded.
+fn process_live(
+    bundle: &str,
+    capture: &Path,
+    impair: &[&str],
+) -> (serde_json::Value, String, bool) {
+    let send = [&["--mbps", "200"][..], impair].concat();
+    let o = live(&["process", bundle, "--json"], capture, &send);
     (
         serde_json::from_slice(&o.stdout).unwrap(),
         String::from_utf8_lossy(&o.stderr).into_owned(),
@@ -197,7 +210,7 @@ fn process_takes_a_live_stream_as_the_bundles_capture() {
     assert_eq!(frames.len(), 22);
 
     // Whole: the same JSON as the file, bit for bit.
-    let (live, _, ok) = process_live(b, radar.to_str().unwrap(), &[]);
+    let (live, _, ok) = process_live(b, &radar, &[]);
     assert!(ok);
     assert_eq!(live, offline);
 
@@ -205,7 +218,7 @@ fn process_takes_a_live_stream_as_the_bundles_capture() {
     // every other frame is the file's.
     let (lossy, err, ok) = process_live(
         b,
-        radar.to_str().unwrap(),
+        &radar,
         &[
             "--loss",
             "0.02",
@@ -253,10 +266,8 @@ fn process_takes_a_live_stream_as_the_bundles_capture() {
 
     // Cut short after 10 frames: those 10 are the file's, the 12 the stream ended before are
     // skipped.
-    let short = dir.path().join("ten-frames.bin");
-    let bytes = std::fs::read(&radar).unwrap();
-    std::fs::write(&short, &bytes[..bytes.len() / 22 * 10]).unwrap();
-    let (cut, err, ok) = process_live(b, short.to_str().unwrap(), &[]);
+    let short = first_frames(&radar, &dir.path().join("ten-frames.bin"), 10, 22);
+    let (cut, err, ok) = process_live(b, &short, &[]);
     assert!(!ok, "{err}");
     for (f, (got, want)) in cut["frames"]
         .as_array()
@@ -279,7 +290,7 @@ fn inspect_takes_a_live_stream_as_the_bundles_capture() {
     let bundle = perimeter(dir.path());
     let (b, radar) = (bundle.to_str().unwrap(), bundle.join("radar.bin"));
     let (file_out, live_out) = (dir.path().join("file-plots"), dir.path().join("live-plots"));
-    let args = |out: &PathBuf| {
+    let args = |out: &Path| {
         [
             "inspect",
             b,
@@ -290,39 +301,20 @@ fn inspect_takes_a_live_stream_as_the_bundles_capture() {
             out.to_str().unwrap(),
         ]
         .map(str::to_owned)
-        .to_vec()
     };
-    let offline = run_ok(
-        &args(&file_out)
-            .iter()
-            .map(String::as_str)
-            .collect::<Vec<_>>(),
-    );
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
-    let mut listen = args(&live_out);
-    listen.extend([
-        "--dca1000".into(),
-        to.clone(),
-        "--idle-s".into(),
-        "0.5".into(),
-    ]);
-    let live = listen_while_sending(
-        port,
-        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
-        &["dca1000-emulate", radar.to_str().unwrap(), "--to", &to],
-    );
+    let offline = run_ok(&strs(&args(&file_out)));
+    let streamed = live(&strs(&args(&live_out)), &radar, &[]);
     assert!(
-        live.status.success(),
+        streamed.status.success(),
         "{}",
-        String::from_utf8_lossy(&live.stderr)
+        String::from_utf8_lossy(&streamed.stderr)
     );
     let report = |o: &Output| {
         let mut v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         v.as_object_mut().unwrap().remove("out");
         v
     };
-    assert_eq!(report(&live), report(&offline));
+    assert_eq!(report(&streamed), report(&offline));
     let plots = |d: &PathBuf| {
         let mut names: Vec<_> = std::fs::read_dir(d)
             .unwrap()
@@ -342,23 +334,8 @@ fn inspect_takes_a_live_stream_as_the_bundles_capture() {
     }
 
     // The stream, not the bundle's file, is what was read: one that ends before frame 7 fails.
-    let short = dir.path().join("five-frames.bin");
-    let bytes = std::fs::read(&radar).unwrap();
-    std::fs::write(&short, &bytes[..bytes.len() / 22 * 5]).unwrap();
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
-    let mut listen = args(&dir.path().join("short-plots"));
-    listen.extend([
-        "--dca1000".into(),
-        to.clone(),
-        "--idle-s".into(),
-        "0.5".into(),
-    ]);
-    let cut = listen_while_sending(
-        port,
-        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
-        &["dca1000-emulate", short.to_str().unwrap(), "--to", &to],
-    );
+    let short = first_frames(&radar, &dir.path().join("five-frames.bin"), 5, 22);
+    let cut = live(&strs(&args(&dir.path().join("short-plots"))), &short, &[]);
     assert!(!cut.status.success());
     let err = String::from_utf8_lossy(&cut.stderr);
     assert!(err.contains("frame 7 did not arrive whole"), "{err}");
@@ -368,7 +345,7 @@ fn inspect_takes_a_live_stream_as_the_bundles_capture() {
 fn the_demo_takes_a_live_stream_as_its_radar() {
     let dir = tempfile::tempdir().unwrap();
     let (first, second) = (dir.path().join("file"), dir.path().join("live"));
-    let demo = |out: &PathBuf| {
+    let demo = |out: &Path| {
         [
             "demo",
             "--edge",
@@ -379,42 +356,20 @@ fn the_demo_takes_a_live_stream_as_its_radar() {
             out.to_str().unwrap(),
         ]
         .map(str::to_owned)
-        .to_vec()
     };
-    let offline = run_ok(&demo(&first).iter().map(String::as_str).collect::<Vec<_>>());
+    let offline = run_ok(&strs(&demo(&first)));
     // The board replays the scene the first run simulated.
-    let scene = first.join("scene/perimeter-3-0000/radar.bin");
     let capture = dir.path().join("board.bin");
-    std::fs::copy(&scene, &capture).unwrap();
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
-    let mut listen = demo(&second);
-    listen.extend([
-        "--dca1000".into(),
-        to.clone(),
-        "--idle-s".into(),
-        "0.5".into(),
-    ]);
-    let live = listen_while_sending(
-        port,
-        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
-        &[
-            "dca1000-emulate",
-            capture.to_str().unwrap(),
-            "--to",
-            &to,
-            "--mbps",
-            "400",
-        ],
-    );
+    std::fs::copy(first.join("scene/perimeter-3-0000/radar.bin"), &capture).unwrap();
+    let streamed = live(&strs(&demo(&second)), &capture, &["--mbps", "400"]);
     assert!(
-        live.status.success(),
+        streamed.status.success(),
         "{}",
-        String::from_utf8_lossy(&live.stderr)
+        String::from_utf8_lossy(&streamed.stderr)
     );
     let (a, b): (serde_json::Value, serde_json::Value) = (
         serde_json::from_slice(&offline.stdout).unwrap(),
-        serde_json::from_slice(&live.stdout).unwrap(),
+        serde_json::from_slice(&streamed.stdout).unwrap(),
     );
     for key in ["frames", "tracks", "alerts", "faults"] {
         assert_eq!(a[key], b[key], "{key}");
@@ -436,28 +391,11 @@ fn the_demo_takes_a_live_stream_as_its_radar() {
 
     // The stream, not the simulated file, is what was processed: one that ends after 20
     // frames has the last two skipped.
-    let bytes = std::fs::read(&capture).unwrap();
-    std::fs::write(&capture, &bytes[..bytes.len() / 22 * 20]).unwrap();
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
-    let mut listen = demo(&dir.path().join("short"));
-    listen.extend([
-        "--dca1000".into(),
-        to.clone(),
-        "--idle-s".into(),
-        "0.5".into(),
-    ]);
-    let cut = listen_while_sending(
-        port,
-        &listen.iter().map(String::as_str).collect::<Vec<_>>(),
-        &[
-            "dca1000-emulate",
-            capture.to_str().unwrap(),
-            "--to",
-            &to,
-            "--mbps",
-            "400",
-        ],
+    let short = first_frames(&capture, &dir.path().join("twenty.bin"), 20, 22);
+    let cut = live(
+        &strs(&demo(&dir.path().join("short"))),
+        &short,
+        &["--mbps", "400"],
     );
     let c: serde_json::Value = serde_json::from_slice(&cut.stdout).unwrap_or_default();
     let faults = c["faults"].as_str().unwrap_or_default();
