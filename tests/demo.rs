@@ -96,32 +96,90 @@ fn demo_alerts_images_and_points_match_the_truth() {
         lingers,
         "the scene does not test hysteresis: {person_gate:?}"
     );
+    // Alerts follow tracks, so an object's first alert waits for its track's confirmation:
+    // the tracker's third detection (frame 2).
+    let confirmed = 2u32;
     let want = [
-        (1u16, "far lot", AlertKind::Enter, 0),
-        (2u16, "gate", AlertKind::Enter, enter as u32),
-        (2u16, "gate", AlertKind::Exit, gone as u32),
+        (car, "far lot", AlertKind::Enter, 0u32),
+        (person, "gate", AlertKind::Enter, enter as u32),
+        (person, "gate", AlertKind::Exit, gone as u32),
     ];
-    let got: Vec<_> = report
-        .alerts
-        .iter()
-        .map(|a| (a.instance, a.zone.as_str(), a.kind))
-        .collect();
-    let want_kinds: Vec<_> = want.iter().map(|w| (w.0, w.1, w.2)).collect();
-    assert_eq!(got, want_kinds, "alerts {:?}", report.alerts);
-    for (a, e) in report.alerts.iter().zip(&want) {
-        // Within a frame of the truth crossing (the radar depth and camera azimuth are close to,
-        // not exactly, the truth), with the object's depth then.
-        assert!(a.frame.abs_diff(e.3) <= 1, "{a:?} vs truth frame {}", e.3);
-        let t = frames[a.frame as usize]["objects"]
+    // The truth object of an alert: the one with the alert's camera instance in its frame.
+    let truth_of = |a: &metamoran_operator::geofence::Alert| {
+        let instance = a.instance.expect("an enter or exit comes with a detection");
+        let o = frames[a.frame as usize]["objects"]
             .as_array()
             .unwrap()
             .iter()
-            .find(|o| o["instance"] == a.instance)
-            .unwrap();
+            .find(|o| o["instance"] == instance)
+            .unwrap()
+            .clone();
+        let identity = o.get("object").unwrap_or(&o["instance"]).as_u64().unwrap();
+        (identity, o)
+    };
+    let got: Vec<_> = report
+        .alerts
+        .iter()
+        .map(|a| (truth_of(a).0, a.zone.as_str(), a.kind))
+        .collect();
+    let want_kinds: Vec<_> = want.iter().map(|w| (w.0, w.1, w.2)).collect();
+    assert_eq!(got, want_kinds, "alerts {:?}", report.alerts);
+    // One track per object.
+    let tracks: Vec<u32> = report.alerts.iter().map(|a| a.track).collect();
+    assert!(
+        tracks[1] == tracks[2] && tracks[0] != tracks[1],
+        "{tracks:?}"
+    );
+    for (a, e) in report.alerts.iter().zip(&want) {
+        // Within a frame of the truth crossing (the radar depth and camera azimuth are close to,
+        // not exactly, the truth) or of the confirmation, with the object's depth then.
+        let due = e.3.max(confirmed);
+        assert!(a.frame.abs_diff(due) <= 1, "{a:?} vs frame {due}");
+        let t = truth_of(a).1;
         assert!(
             (a.depth_m - t["depth_m"].as_f64().unwrap()).abs() < 1.0,
             "{a:?}"
         );
+    }
+
+    // A segmenter that numbers its instances afresh every frame changes no track and no alert.
+    let renumbered_out = dir.path().join("renumbered");
+    let renumbered = run(
+        &renumbered_out,
+        &DemoOptions {
+            renumber_instances: true,
+            ..options(DemoEdge::InProcess)
+        },
+    )
+    .unwrap();
+    let masks_differ = (0..frames.len()).any(|f| {
+        let read = |out: &std::path::Path| {
+            let scene = std::fs::read_dir(out.join("scene"))
+                .unwrap()
+                .next()
+                .unwrap()
+                .unwrap();
+            std::fs::read(metamoran_bundle::CameraPaths::new(&scene.path(), f as u32).instances)
+                .unwrap()
+        };
+        read(&out) != read(&renumbered_out)
+    });
+    assert!(
+        masks_differ,
+        "the renumbered scene has the same instance ids"
+    );
+    let without_instance = |alerts: &[metamoran_operator::geofence::Alert]| {
+        alerts
+            .iter()
+            .map(|a| (a.kind, a.zone.clone(), a.track, a.frame, a.class.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        without_instance(&renumbered.alerts),
+        without_instance(&report.alerts)
+    );
+    for (r, a) in renumbered.alerts.iter().zip(&report.alerts) {
+        assert!((r.depth_m - a.depth_m).abs() < 1e-9, "{r:?} vs {a:?}");
     }
     let objects = frames[0]["objects"].as_array().unwrap();
     assert!(objects.len() >= 2);

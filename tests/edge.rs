@@ -134,6 +134,7 @@ fn calibrated_bundle(dir: &Path, calibrated: bool) -> std::path::PathBuf {
     let board = Variant {
         difficulty: Difficulty::Standard,
         board: Some(5),
+        renumber: false,
     };
     let bundle = simulate_with(
         Preset::ParkingLot,

@@ -101,7 +101,7 @@ fn demo_publishes_objects_alerts_status_and_last_will() {
     let on = |topic: &str| -> Vec<&(String, String, bool)> {
         live.iter().filter(|m| m.0 == topic).collect()
     };
-    // Objects: one message per frame, in order; the last holds the tracks' depths.
+    // Objects: one message per frame, in order; the last holds results.json's last depths.
     let objects = on("metamoran/gate/objects");
     assert_eq!(objects.len(), report.frames, "{live:?}");
     let frames: Vec<u64> = objects
@@ -120,7 +120,16 @@ fn demo_publishes_objects_alerts_status_and_last_will() {
         .iter()
         .map(|o| o["depth_m"].as_f64())
         .collect();
-    let want: Vec<Option<f64>> = report.tracks.iter().map(|t| t.depth_m).collect();
+    let results: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap()).unwrap();
+    let last = &results["frames"][report.frames - 1]["objects"];
+    let want: Vec<Option<f64>> = last
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|o| o["depth_m"].as_f64())
+        .collect();
+    assert!(!want.is_empty());
     assert_eq!(depths, want);
     // Alerts: every one, in order, byte for byte (parsing the floats back is not exact).
     let alerts: Vec<&str> = on("metamoran/gate/alerts")

@@ -10,10 +10,12 @@
 use metamoran_bundle::OpenOptions;
 use metamoran_bundle::geometry::CameraModel;
 use metamoran_operator::alert_log::AlertLog;
-use metamoran_operator::geofence::{Alert, Geofence, Perimeter};
-use metamoran_operator::live::{LiveView, OperatorState, Track};
+use metamoran_operator::geofence::{Alert, Perimeter};
+use metamoran_operator::live::{LiveView, OperatorState, TrackRow};
 use metamoran_operator::mqtt::MqttConfig;
 use metamoran_operator::outputs::{write, write_outputs};
+use metamoran_operator::tracking::TrackerConfig;
+use metamoran_operator::watch::Watch;
 use metamoran_process::{FrameEvent, Mode, ProcessOptions, Runner, process_streamed};
 use metamoran_sim::{layout::Preset, radar::RadarKind};
 use serde::Serialize;
@@ -60,8 +62,8 @@ pub struct DemoReport {
     pub edge: String,
     /// Frames processed.
     pub frames: usize,
-    /// Objects of the last frame.
-    pub tracks: Vec<Track>,
+    /// The confirmed tracks after the last frame.
+    pub tracks: Vec<TrackRow>,
     /// Every alert, in order.
     pub alerts: Vec<Alert>,
     /// Link health from the module (QEMU only): frames and faults it counted.
@@ -90,22 +92,24 @@ impl fmt::Display for DemoReport {
         if let Some(radar) = &self.radar {
             writeln!(f, "radar: {radar}")?;
         }
-        writeln!(f, "\nobjects of the last frame:")?;
+        writeln!(
+            f,
+            "\ntracks after the last frame (? = coasting on its prediction):"
+        )?;
         writeln!(
             f,
             "\n{:>4}  {:<7} {:>9} {:>8} {:>8}  zones",
-            "id", "class", "depth m", "az °", "conf dB"
+            "id", "class", "depth m", "az °", "m/s"
         )?;
         for t in &self.tracks {
-            let opt = |v: Option<f64>, p: usize| v.map_or("—".into(), |v| format!("{v:.p$}"));
             writeln!(
                 f,
-                "{:>4}  {:<7} {:>9} {:>8} {:>8}  {}",
-                t.instance,
+                "{:>4}  {:<7} {:>9} {:>8.1} {:>8.1}  {}",
+                t.id,
                 t.class,
-                opt(t.depth_m, 2),
-                opt(t.azimuth_deg, 1),
-                opt(t.confidence_db, 1),
+                format!("{:.2}{}", t.depth_m, if t.coasting { "?" } else { "" }),
+                t.azimuth_deg,
+                t.speed_mps,
                 if t.zones.is_empty() {
                     "—".into()
                 } else {
@@ -120,8 +124,8 @@ impl fmt::Display for DemoReport {
         for a in &self.alerts {
             writeln!(
                 f,
-                "  t={:.1} s frame {}: {:?} {} #{} {} at {:.2} m, {:+.1}°",
-                a.time_s, a.frame, a.kind, a.class, a.instance, a.zone, a.depth_m, a.azimuth_deg
+                "  t={:.1} s frame {}: {:?} {} track {} {} at {:.2} m, {:+.1}°",
+                a.time_s, a.frame, a.kind, a.class, a.track, a.zone, a.depth_m, a.azimuth_deg
             )?;
         }
         if let Some(l) = &self.link {
@@ -161,7 +165,8 @@ impl Published {
 /// What the demo shows as each frame arrives: the perimeter's state, the alerts, the MQTT
 /// publisher and the live view.
 struct Operator<'a> {
-    fence: Geofence,
+    /// The tracker and the zone rules.
+    watch: Watch,
     state: OperatorState,
     period_s: f64,
     publisher: Option<&'a metamoran_operator::mqtt::Publisher>,
@@ -176,22 +181,13 @@ struct Operator<'a> {
 }
 
 impl Operator<'_> {
-    /// The tracks of one frame's objects, with the zones they are in now.
-    fn tracks(&self, objects: &[metamoran_process::ObjectEstimate]) -> Vec<Track> {
-        objects
-            .iter()
-            .map(|o| Track {
-                instance: o.instance,
-                class: o.class.clone(),
-                depth_m: o.depth_m,
-                azimuth_deg: o.azimuth_deg,
-                confidence_db: o.confidence_db,
-                zones: self
-                    .fence
-                    .zones_of(o.instance)
-                    .into_iter()
-                    .map(String::from)
-                    .collect(),
+    /// The confirmed tracks, with the zones they are in now.
+    fn tracks(&self) -> Vec<TrackRow> {
+        self.watch
+            .tracks()
+            .map(|t| {
+                let zones = self.watch.zones_of(t.id).into_iter().map(String::from);
+                TrackRow::of(t, zones.collect())
             })
             .collect()
     }
@@ -200,8 +196,11 @@ impl Operator<'_> {
     fn frame(&mut self, e: FrameEvent<'_>) -> Result<(), crate::Error> {
         let f = e.result;
         let time_s = f64::from(f.frame) * self.period_s;
-        let alerts = self.fence.update(f.frame, time_s, &f.objects);
-        let tracks = self.tracks(&f.objects);
+        let alerts = self
+            .watch
+            .frame(f.frame, time_s, &f.objects)
+            .map_err(|e| format!("frame {}: {e}", f.frame))?;
+        let tracks = self.tracks();
         // A frame is logged and published once, across the attempts of `--edge auto`.
         if self.published.take(f.frame) {
             for a in &alerts {
@@ -253,6 +252,9 @@ pub struct DemoOptions {
     /// (the scene's camera products stay): a board replaying the scene, or
     /// `metamoran dca1000-emulate` sending its `radar.bin`.
     pub dca1000: Option<crate::live::Link>,
+    /// Simulate the scene with the camera's instances numbered afresh every frame, as a real
+    /// segmenter does; the tracks and alerts must not change.
+    pub renumber_instances: bool,
 }
 
 /// Runs the demo into `out` (created; its earlier demo files are replaced).
@@ -268,6 +270,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         live,
         realtime,
         dca1000,
+        renumber_instances,
     } = options;
     let (edge, perimeter, mqtt, live) = (*edge, perimeter.as_deref(), mqtt.as_ref(), *live);
     let realtime = *realtime;
@@ -275,7 +278,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         .map_err(|e| format!("{}: cannot create the output folder ({e})", out.display()))?;
     let perimeter = install_perimeter(out, perimeter)?;
     let (preset, _, _) = SCENE;
-    let bundle = &simulate_scene(out)?;
+    let bundle = &simulate_scene(out, *renumber_instances)?;
     let mut opts = OpenOptions::default();
     // Kept while the bundle is read: the recorded stream is removed when dropped.
     let stream = dca1000
@@ -298,7 +301,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     let (runner, words, fallback) = plan(edge, firmware.as_deref())?;
     let mut run_on = |runner: Runner, words: &str| {
         let mut op = Operator {
-            fence: Geofence::new(perimeter.clone()),
+            watch: Watch::new(perimeter.clone(), TrackerConfig::default()),
             state: OperatorState {
                 title: format!(
                     "metamoran demo: built-in {} scene ({} frames)",
@@ -475,14 +478,18 @@ fn install_perimeter(out: &Path, given: Option<&Path>) -> Result<Perimeter, crat
 }
 
 /// Simulates the built-in [`SCENE`] afresh into `OUT/scene/`; returns its bundle folder.
-fn simulate_scene(out: &Path) -> Result<PathBuf, crate::Error> {
+fn simulate_scene(out: &Path, renumber: bool) -> Result<PathBuf, crate::Error> {
     let scenes = out.join("scene");
     if scenes.exists() {
         std::fs::remove_dir_all(&scenes)
             .map_err(|e| format!("{}: cannot replace ({e})", scenes.display()))?;
     }
     let (preset, radar, seed) = SCENE;
-    let dirs = metamoran_sim::simulate(preset, radar, seed, 1, &scenes, &|| ())?;
+    let variant = metamoran_sim::Variant {
+        renumber,
+        ..Default::default()
+    };
+    let dirs = metamoran_sim::simulate_with(preset, radar, variant, seed, 1, &scenes, &|| ())?;
     Ok(dirs
         .into_iter()
         .next()

@@ -44,8 +44,12 @@ pub struct Ego {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct TruthObject {
-    /// Instance id in the camera products.
+    /// Instance id in the camera products of this frame.
     pub instance: u16,
+    /// The object's identity across frames where the camera numbers its instances afresh
+    /// every frame (`simulate --renumber-instances`); absent: `instance` is that identity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<u16>,
     /// Class word.
     pub class: String,
     /// Range of the closest point, m.
@@ -56,6 +60,13 @@ pub struct TruthObject {
     pub radial_velocity_mps: f64,
     /// Lidar-like sample of the visible surface, radar frame, m.
     pub points: Vec<[f64; 3]>,
+}
+
+impl TruthObject {
+    /// The object's identity across frames: [`TruthObject::object`], else the instance id.
+    pub fn identity(&self) -> u16 {
+        self.object.unwrap_or(self.instance)
+    }
 }
 
 impl Truth {

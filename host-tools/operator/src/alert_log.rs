@@ -65,11 +65,15 @@ mod tests {
         let alert = |frame| Alert {
             kind: AlertKind::Enter,
             zone: "gate".into(),
-            instance: 2,
+            track: 3,
+            instance: Some(2),
             class: "person".into(),
             depth_m: 12.5,
             azimuth_deg: -3.0,
             position_m: [-0.65, 12.48],
+            velocity_mps: [1.4, 0.0],
+            closing_mps: None,
+            inside_s: None,
             frame,
             time_s: f64::from(frame) * 0.5,
         };

@@ -19,5 +19,6 @@ pub mod outputs;
 pub mod plot;
 pub mod record;
 pub mod tracking;
+pub mod watch;
 
 pub use error::OperatorError;

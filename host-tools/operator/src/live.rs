@@ -1,5 +1,5 @@
-//! The operator's live terminal view (ratatui): objects with class, depth, azimuth, confidence
-//! and zones, the latest alerts, and the telemetry link's health, redrawn as each frame's
+//! The operator's live terminal view (ratatui): the confirmed tracks with class, depth,
+//! azimuth, speed and zones, the latest alerts, and the telemetry link's health, redrawn as each frame's
 //! results arrive from the module.
 //!
 //! [`draw`] is a pure function of [`OperatorState`], so tests render it into ratatui's
@@ -14,21 +14,38 @@ use ratatui::widgets::{Block, Cell, Paragraph, Row, Table};
 use serde::Serialize;
 use std::time::Duration;
 
-/// One object as the operator sees it.
-#[derive(Clone, Debug, Serialize)]
-pub struct Track {
-    /// Instance id.
-    pub instance: u16,
-    /// Class.
+/// One confirmed track as the operator sees it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct TrackRow {
+    /// Track id.
+    pub id: u32,
+    /// Class (the track's vote).
     pub class: String,
-    /// Depth, m (`None`: not detected).
-    pub depth_m: Option<f64>,
+    /// Range, m.
+    pub depth_m: f64,
     /// Azimuth, degrees.
-    pub azimuth_deg: Option<f64>,
-    /// Confidence, dB over the search floor.
-    pub confidence_db: Option<f64>,
+    pub azimuth_deg: f64,
+    /// Ground speed, m/s.
+    pub speed_mps: f64,
+    /// Whether this frame gave it no detection (its position is a prediction).
+    pub coasting: bool,
     /// Zones it is in.
     pub zones: Vec<String>,
+}
+
+impl TrackRow {
+    /// The row of `track`, in `zones`.
+    pub fn of(track: &crate::tracking::Track, zones: Vec<String>) -> Self {
+        Self {
+            id: track.id,
+            class: track.class.clone(),
+            depth_m: track.range_m(),
+            azimuth_deg: track.azimuth_deg(),
+            speed_mps: track.velocity_mps[0].hypot(track.velocity_mps[1]),
+            coasting: track.detection.is_none(),
+            zones,
+        }
+    }
 }
 
 /// How many of the latest alerts the view lists.
@@ -100,16 +117,12 @@ pub struct OperatorState {
     pub frames: u32,
     /// Time of the latest frame, s.
     pub time_s: f64,
-    /// Objects of the latest frame.
-    pub tracks: Vec<Track>,
+    /// The confirmed tracks after the latest frame.
+    pub tracks: Vec<TrackRow>,
     /// Every alert so far, in order (the view lists the latest [`ALERT_LINES`]).
     pub alerts: Vec<Alert>,
     /// Link health.
     pub link: LinkHealth,
-}
-
-fn opt(v: Option<f64>, places: usize) -> String {
-    v.map_or("—".into(), |v| format!("{v:.places$}"))
 }
 
 /// Draws the operator view into `frame`: the title, the objects, the latest alerts and the
@@ -141,9 +154,9 @@ pub fn draw(frame: &mut ratatui::Frame<'_>, s: &OperatorState) {
     );
 }
 
-/// The objects, one row each; rows of objects inside a zone in red.
-fn objects_table(tracks: &[Track], bold: Style) -> Table<'_> {
-    let header = Row::new(["id", "class", "depth m", "az °", "conf dB", "zones"]).style(bold);
+/// The tracks, one row each; rows of tracks inside a zone in red.
+fn objects_table(tracks: &[TrackRow], bold: Style) -> Table<'_> {
+    let header = Row::new(["id", "class", "depth m", "az °", "m/s", "zones"]).style(bold);
     let rows = tracks.iter().map(|t| {
         let zones = if t.zones.is_empty() {
             "—".to_owned()
@@ -156,11 +169,15 @@ fn objects_table(tracks: &[Track], bold: Style) -> Table<'_> {
             Style::new().fg(Color::Red)
         };
         Row::new([
-            Cell::from(t.instance.to_string()),
+            Cell::from(t.id.to_string()),
             Cell::from(t.class.as_str()),
-            Cell::from(opt(t.depth_m, 2)),
-            Cell::from(opt(t.azimuth_deg, 1)),
-            Cell::from(opt(t.confidence_db, 1)),
+            Cell::from(format!(
+                "{:.2}{}",
+                t.depth_m,
+                if t.coasting { "?" } else { "" }
+            )),
+            Cell::from(format!("{:.1}", t.azimuth_deg)),
+            Cell::from(format!("{:.1}", t.speed_mps)),
             Cell::from(zones),
         ])
         .style(style)
@@ -175,7 +192,7 @@ fn objects_table(tracks: &[Track], bold: Style) -> Table<'_> {
     ];
     Table::new(rows, widths)
         .header(header)
-        .block(Block::bordered().title(" objects "))
+        .block(Block::bordered().title(" tracks (? = coasting) "))
 }
 
 /// The latest [`ALERT_LINES`] alerts, oldest first.
@@ -188,11 +205,11 @@ fn alert_list(alerts: &[Alert]) -> Paragraph<'static> {
             .iter()
             .map(|a| {
                 Line::from(format!(
-                    "t={:>5.1} s  {:<5} {} #{} {} at {:.2} m, {:+.1}°",
+                    "t={:>5.1} s  {:<8} {} #{} {} at {:.2} m, {:+.1}°",
                     a.time_s,
                     format!("{:?}", a.kind).to_lowercase(),
                     a.class,
-                    a.instance,
+                    a.track,
                     a.zone,
                     a.depth_m,
                     a.azimuth_deg
@@ -288,11 +305,15 @@ mod tests {
                 AlertKind::Exit
             },
             zone: "gate".into(),
-            instance: 2,
+            track: 2,
+            instance: Some(5),
             class: "person".into(),
             depth_m: 12.0 + f64::from(i),
             azimuth_deg: -10.0,
             position_m: [-2.0, 12.0],
+            velocity_mps: [1.0, 0.0],
+            closing_mps: None,
+            inside_s: None,
             frame: i,
             time_s: f64::from(i) / 2.0,
         }
@@ -318,20 +339,22 @@ mod tests {
             frames: 22,
             time_s: 0.5,
             tracks: vec![
-                Track {
-                    instance: 1,
+                TrackRow {
+                    id: 1,
                     class: "car".into(),
-                    depth_m: Some(37.126),
-                    azimuth_deg: Some(3.04),
-                    confidence_db: Some(21.0),
+                    depth_m: 37.126,
+                    azimuth_deg: 3.04,
+                    speed_mps: 0.04,
+                    coasting: false,
                     zones: vec!["far lot".into()],
                 },
-                Track {
-                    instance: 2,
+                TrackRow {
+                    id: 2,
                     class: "person".into(),
-                    depth_m: None,
-                    azimuth_deg: None,
-                    confidence_db: None,
+                    depth_m: 12.5,
+                    azimuth_deg: -8.0,
+                    speed_mps: 1.4,
+                    coasting: true,
                     zones: vec![],
                 },
             ],
@@ -341,7 +364,7 @@ mod tests {
         let text = screen(&s);
         assert!(text.contains("frame 2/22"), "{text}");
         assert!(text.contains("37.13") && text.contains("3.0") && text.contains("far lot"));
-        assert!(text.contains("person") && text.contains("—"));
+        assert!(text.contains("person") && text.contains("12.50?") && text.contains("1.4"));
         // The latest ALERT_LINES alerts: 3..=10, not 0..=2.
         assert!(text.contains("alerts (11)"));
         assert!(

@@ -21,6 +21,7 @@ fn corner(kind: RadarKind, board: Option<u64>, seed: u64) -> (RadarFile, tempfil
     let variant = Variant {
         difficulty: Difficulty::Standard,
         board,
+        renumber: false,
     };
     let s = simulate_scene_with(Preset::Corner, kind, variant, seed, 0);
     let mut tmp = tempfile::NamedTempFile::new().unwrap();

@@ -25,6 +25,10 @@ pub enum Preset {
     /// person who walks into the gate zone near 12 m, back to 0.6 m outside its border (within
     /// the demo perimeter's hysteresis), in again and out (the demo scene).
     Perimeter,
+    /// Multi-object tracking (issue #20): 30 frames (0.25 s apart) of two people whose walks
+    /// cross at 13–15 m, 1.5 m apart in depth as their azimuths cross (the nearer one hides the
+    /// farther from the camera for a frame or two), and a car crawling across the lot at 32–38 m.
+    Crossing,
     /// The radar on a vehicle driving down a street of walls, poles and parked cars among
     /// traffic, 20 frames at 10 Hz, with an elevated TX (xWR1843-like board whatever `--radar`
     /// says): dense radar mapping's scenes. Ego pose and velocity in truth.json.
@@ -47,6 +51,7 @@ impl Preset {
             Preset::LongRange => "long-range",
             Preset::Moving => "moving",
             Preset::Perimeter => "perimeter",
+            Preset::Crossing => "crossing",
             Preset::Drive => "drive",
             Preset::Corner => "corner",
         }
@@ -251,9 +256,14 @@ fn interest(
         _ => "sign",
     };
     let range = match (preset, class) {
-        (Preset::ParkingLot | Preset::Perimeter | Preset::Drive | Preset::Corner, _) => {
-            rng.random_range(3.0..60.0)
-        }
+        (
+            Preset::ParkingLot
+            | Preset::Perimeter
+            | Preset::Crossing
+            | Preset::Drive
+            | Preset::Corner,
+            _,
+        ) => rng.random_range(3.0..60.0),
         (Preset::LongRange, _) => rng.random_range(10.0..90.0),
         (Preset::Moving, "person") => rng.random_range(20.0..150.0),
         (Preset::Moving, _) => rng.random_range(20.0..300.0),
@@ -280,6 +290,9 @@ pub fn draw(
     }
     if preset == Preset::Corner {
         return corner(rng);
+    }
+    if preset == Preset::Crossing {
+        return crossing(rng, max_range);
     }
     let count = if rng.random_range(0.0..1.0) < 0.3 {
         2
@@ -393,6 +406,59 @@ fn perimeter(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64
         frame_period_s: 0.5,
     };
     (layout, car_range)
+}
+
+/// The crossing preset: two walkers whose paths cross and a slow car behind them.
+fn crossing(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64) {
+    const FRAMES: u16 = 30;
+    let car_z = rng.random_range(32.0..38.0);
+    let z = rng.random_range(12.0..13.0);
+    let mut p = Placer {
+        rng,
+        difficulty: Difficulty::Standard,
+        objects: Vec::new(),
+        keep_clear: Vec::new(),
+        max_range: max_range(car_z + 2.0),
+    };
+    // Walker A left to right from z to z + 3; walker B right to left 1.5 m deeper: at x = 0
+    // they are at the same azimuth, B behind A.
+    let walks = [
+        ([-6.0, z], [6.0, z + 3.0], 1.4),
+        ([6.0, z + 1.5], [-6.0, z + 4.5], 1.6),
+        ([-9.0, car_z], [9.0, car_z], 2.5),
+    ];
+    let mut paths = Vec::new();
+    for (k, (from, to, speed)) in walks.into_iter().enumerate() {
+        let class = if k < 2 { "person" } else { "car" };
+        let shape = p.shape(class, from);
+        p.push(class, shape, [0.0; 2]);
+        paths.push(Path {
+            id: p.next_id() - 1,
+            waypoints: vec![from, to],
+            speed,
+        });
+    }
+    // Nothing on or within 20 m behind the walks and the drive.
+    for (from, to, _) in walks {
+        for k in 0..=24 {
+            let t = f64::from(k) / 24.0;
+            let c = [
+                from[0] + t * (to[0] - from[0]),
+                from[1] + t * (to[1] - from[1]),
+            ];
+            let range = c[0].hypot(c[1]);
+            p.keep_clear
+                .push((range + 20.0, c[0].atan2(c[1]), half_span(2.5, range)));
+        }
+    }
+    p.background_clutter();
+    let layout = Layout {
+        objects: p.objects,
+        paths,
+        frames: FRAMES,
+        frame_period_s: 0.25,
+    };
+    (layout, car_z + 2.0)
 }
 
 impl<R: Rng> Placer<'_, R> {

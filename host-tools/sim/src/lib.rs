@@ -143,14 +143,44 @@ pub struct Variant {
     /// A seeded board's channel errors ([`signal::ChannelErrors::draw`], delays sized by
     /// [`board_bin_m`]); `None`: a perfect array.
     pub board: Option<u64>,
+    /// Number the camera's instances afresh every frame, as a real segmenter does (issue
+    /// #20): the same scene, its mask and `instances.json` ids permuted per frame, the truth
+    /// keeping each object's identity in `object`.
+    pub renumber: bool,
 }
 
 impl From<Difficulty> for Variant {
     fn from(difficulty: Difficulty) -> Self {
         Self {
             difficulty,
-            board: None,
+            ..Self::default()
         }
+    }
+}
+
+/// Numbers each frame's instances afresh: the visible ids become `1..=n` in an order drawn
+/// from `seed` and the frame (its own generator, so the scene's other draws are unchanged),
+/// in the mask, `instances.json` and the truth (which keeps the old id as the identity).
+fn renumber(shots: &mut [Shot], truth: &mut [TruthFrame], seed: u64) {
+    use rand::seq::SliceRandom;
+    for (f, (shot, frame)) in shots.iter_mut().zip(truth).enumerate() {
+        let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed ^ 0x5245_4E55_4D42_4552, f as u64));
+        let old: Vec<u16> = shot.instances.iter().map(|i| i.id).collect();
+        let mut new: Vec<u16> = (1..=old.len() as u16).collect();
+        new.shuffle(&mut rng);
+        let map = |id: u16| old.iter().position(|&o| o == id).map_or(id, |k| new[k]);
+        for px in &mut shot.products.mask {
+            *px = map(*px);
+        }
+        for i in &mut shot.instances {
+            i.id = map(i.id);
+        }
+        shot.instances.sort_by_key(|i| i.id);
+        for o in &mut frame.objects {
+            o.object = Some(o.instance);
+            o.instance = map(o.instance);
+        }
+        frame.objects.sort_by_key(|o| o.instance);
     }
 }
 
@@ -169,10 +199,22 @@ pub fn simulate_scene_with(
     seed: u64,
     index: u64,
 ) -> SimulatedScene {
-    let Variant { difficulty, board } = variant.into();
+    let Variant {
+        difficulty,
+        board,
+        renumber: renumbered,
+    } = variant.into();
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     if preset == Preset::Drive {
-        return drive_scene(&mut rng);
+        let mut scene = drive_scene(&mut rng);
+        if renumbered {
+            renumber(
+                &mut scene.shots,
+                &mut scene.truth.frames,
+                scene_seed(seed, index),
+            );
+        }
+        return scene;
     }
     let (layout, deepest) = layout::draw(preset, difficulty, &mut rng, radar::max_range_for);
     let loops = if preset == Preset::Moving { 16 } else { 2 };
@@ -229,6 +271,9 @@ pub fn simulate_scene_with(
             objects: truth_objects,
         });
         shots.push(shot);
+    }
+    if renumbered {
+        renumber(&mut shots, &mut frames, scene_seed(seed, index));
     }
     SimulatedScene {
         objects: layout.objects,
@@ -398,6 +443,7 @@ fn truth_object(
         azimuth_deg: centre[0].atan2(centre[1]).to_degrees(),
         radial_velocity_mps: o.radial_velocity(&nalgebra::Vector3::new(centre[0], 0.0, centre[1])),
         points,
+        object: None,
     }
 }
 
@@ -489,6 +535,9 @@ pub fn simulate_with(
     if let Some(b) = variant.board {
         tag.push_str(&format!("-board{b}"));
     }
+    if variant.renumber {
+        tag.push_str("-renumbered");
+    }
     let dirs: Vec<PathBuf> = (0..count)
         .map(|k| out.join(format!("{}{tag}-{seed}-{k:04}", preset.name())))
         .collect();
@@ -502,7 +551,43 @@ pub fn simulate_with(
 
 #[cfg(test)]
 mod tests {
-    use super::{Difficulty, Preset, RadarKind, simulate_scene_with};
+    use super::{Difficulty, Preset, RadarKind, Variant, simulate_scene_with};
+
+    /// Renumbering changes the ids and nothing else: the radar samples are the same bytes, and
+    /// in each frame the mask is the original under one bijection of the ids, which the
+    /// instances list and the truth (through its `object` identity) follow.
+    #[test]
+    fn renumbering_permutes_each_frames_ids_and_changes_nothing_else() {
+        let kind = RadarKind::Xwr18xx;
+        let a = simulate_scene_with(Preset::Crossing, kind, Difficulty::Standard, 4, 0);
+        let renumber = Variant {
+            renumber: true,
+            ..Variant::default()
+        };
+        let b = simulate_scene_with(Preset::Crossing, kind, renumber, 4, 0);
+        assert_eq!(a.adc, b.adc);
+        let mut changed = 0;
+        for (f, (sa, sb)) in a.shots.iter().zip(&b.shots).enumerate() {
+            let mut map = std::collections::BTreeMap::new();
+            for (&pa, &pb) in sa.products.mask.iter().zip(&sb.products.mask) {
+                assert_eq!(*map.entry(pa).or_insert(pb), pb, "frame {f}: not one map");
+            }
+            let images: std::collections::BTreeSet<_> = map.values().collect();
+            assert_eq!(images.len(), map.len(), "frame {f}: two ids merged");
+            assert_eq!(map.get(&0).copied().unwrap_or(0), 0, "background stays 0");
+            for ia in &sa.instances {
+                let new = map[&ia.id];
+                let i = sb.instances.iter().find(|i| i.id == new).unwrap();
+                assert_eq!(i.class, ia.class);
+            }
+            for t in &b.truth.frames[f].objects {
+                let old = t.identity();
+                assert_eq!(map[&old], t.instance, "frame {f}");
+            }
+            changed += usize::from(map.iter().any(|(k, v)| k != v));
+        }
+        assert!(changed > a.shots.len() / 2, "{changed} frames renumbered");
+    }
 
     /// Objects of interest with a strong reflector within 7° of them at a range 2.5 m or more
     /// away (what an 8-element beam cannot separate), over `n` scenes.

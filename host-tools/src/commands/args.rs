@@ -83,6 +83,8 @@ pub enum PresetArg {
     /// A perimeter over 22 frames: a parked car and a person walking into a zone and out (the
     /// demo scene).
     Perimeter,
+    /// Multi-object tracking: 30 frames of two people whose walks cross and a slow car.
+    Crossing,
     /// The radar on a vehicle driving down a street, 20 frames at 10 Hz, with an elevated TX:
     /// dense radar mapping's scenes.
     Drive,
@@ -97,6 +99,7 @@ impl From<PresetArg> for metamoran_sim::layout::Preset {
             PresetArg::LongRange => Self::LongRange,
             PresetArg::Moving => Self::Moving,
             PresetArg::Perimeter => Self::Perimeter,
+            PresetArg::Crossing => Self::Crossing,
             PresetArg::Drive => Self::Drive,
             PresetArg::Corner => Self::Corner,
         }

@@ -78,6 +78,10 @@ pub struct Args {
     /// --json is not given); the final operator view is printed either way.
     #[arg(long)]
     no_live: bool,
+    /// Simulate the scene with the camera's instance ids renumbered every frame, as a real
+    /// segmenter numbers them: the tracks (and so the alerts) do not depend on them.
+    #[arg(long)]
+    renumber_instances: bool,
     /// Deliver the frames at the scene's frame rate (2 Hz, 11 s) even without the live view,
     /// as a sensor would.
     #[arg(long)]
@@ -136,6 +140,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         live: !args.json && !args.no_live && std::io::IsTerminal::is_terminal(&std::io::stdout()),
         realtime: args.realtime,
         dca1000: args.live_radar.link()?,
+        renumber_instances: args.renumber_instances,
     };
     super::print(&metamoran::demo::run(&args.out, &options)?, args.json)
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)"
+    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)\n  metamoran simulate --preset crossing --renumber-instances --seed 2 --out scenes   (tracking: instance ids renumbered every frame)"
 )]
 pub struct Args {
     /// Scene preset.
@@ -36,6 +36,11 @@ pub struct Args {
     /// same board. Scenes go to OUT/<preset>-board<B>-<seed>-<index>.
     #[arg(long, value_name = "B")]
     board: Option<u64>,
+    /// Number the camera's instances afresh every frame, as a real segmenter does (issue #20):
+    /// the same scene with its mask and instances.json ids permuted per frame; truth.json keeps
+    /// each object's identity as `object`. Scenes go to OUT/<preset>-renumbered-<seed>-<index>.
+    #[arg(long)]
+    renumber_instances: bool,
 }
 
 /// Runs `metamoran simulate`.
@@ -54,6 +59,7 @@ pub fn run(args: &Args) -> super::Result {
     let variant = metamoran_sim::Variant {
         difficulty,
         board: args.board,
+        renumber: args.renumber_instances,
     };
     let dirs = metamoran_sim::simulate_with(
         preset,

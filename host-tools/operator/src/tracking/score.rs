@@ -44,6 +44,24 @@ impl Clear {
     }
 }
 
+/// Sums the counts of two runs; MOTP is the mean over both runs' matches.
+impl std::ops::AddAssign for Clear {
+    fn add_assign(&mut self, o: Self) {
+        let matches = self.matches + o.matches;
+        self.motp_m = if matches == 0 {
+            0.0
+        } else {
+            (self.motp_m * f64::from(self.matches) + o.motp_m * f64::from(o.matches))
+                / f64::from(matches)
+        };
+        self.truth += o.truth;
+        self.misses += o.misses;
+        self.false_tracks += o.false_tracks;
+        self.id_switches += o.id_switches;
+        self.matches = matches;
+    }
+}
+
 impl std::fmt::Display for Clear {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(

@@ -1,11 +1,9 @@
-//! Perimeter alerts (Metamoran's application): polygon zones on the ground plane, restricted
-//! classes, a least confidence, and alerts when a restricted object is inside a zone.
+//! The perimeter file: polygon zones on the ground plane, restricted classes, a least
+//! confidence, and per-zone loitering and approach thresholds; loaded, checked field by field,
+//! and the polygon geometry the rules need ([`signed_distance`], [`nearest_on_boundary`]).
 //!
 //! The ground plane is the radar frame's `x` (right) and `z` (forward), metres; an object stands
-//! at `(d·sin az, d·cos az)` for its depth `d` and azimuth `az`. A zone is entered when the object
-//! is inside its polygon and left only when the object is more than `hysteresis_m` outside it
-//! (a Schmitt trigger on the signed distance to the boundary), so an object on the border does
-//! not flap. A frame in which the object is not detected changes nothing.
+//! at `(d·sin az, d·cos az)` for its depth `d` and azimuth `az`.
 //!
 //! ```toml
 //! restricted_classes = ["person", "car"]
@@ -15,13 +13,14 @@
 //! [[zone]]
 //! name = "gate"
 //! polygon = [[-8.0, 5.0], [8.0, 5.0], [8.0, 30.0], [-8.0, 30.0]]   # [x, z], m
+//! dwell_s = 20.0            # optional: alert when a track stays inside longer (loitering)
+//! approach_mps = 3.0        # optional: alert when a track outside closes in faster
+//! approach_within_m = 30.0  # … within this distance of the zone (default 30 m)
 //! ```
 
 use crate::OperatorError;
 use metamoran_bundle::limits::MAX_TOML_BYTES;
-use metamoran_process::ObjectEstimate;
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 use std::path::Path;
 
 /// One zone: a simple polygon on the ground plane.
@@ -32,6 +31,25 @@ pub struct Zone {
     pub name: String,
     /// Vertices `[x, z]`, metres, in order (either direction); at least 3.
     pub polygon: Vec<[f64; 2]>,
+    /// Loitering: a `dwell` alert when a track has been inside for longer, s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dwell_s: Option<f64>,
+    /// Approach: an `approach` alert when a track outside closes in on the zone faster, m/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub approach_mps: Option<f64>,
+    /// How near the zone, m, an approach counts ([`DEFAULT_APPROACH_WITHIN_M`] when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub approach_within_m: Option<f64>,
+}
+
+/// How near a zone, m, a track's approach counts when the zone does not say.
+pub const DEFAULT_APPROACH_WITHIN_M: f64 = 30.0;
+
+impl Zone {
+    /// How near, m, an approach counts.
+    pub fn approach_within_m(&self) -> f64 {
+        self.approach_within_m.unwrap_or(DEFAULT_APPROACH_WITHIN_M)
+    }
 }
 
 /// A perimeter configuration (TOML; see the module docs).
@@ -133,6 +151,21 @@ impl Perimeter {
             }
             check_polygon(&z.polygon)
                 .map_err(|problem| format!("zone[{i}].polygon ({}): {problem}", z.name))?;
+            for (field, value, unit) in [
+                ("dwell_s", z.dwell_s, "seconds"),
+                ("approach_mps", z.approach_mps, "m/s"),
+                ("approach_within_m", z.approach_within_m, "metres"),
+            ] {
+                if let Some(v) = value
+                    && !(v.is_finite() && v > 0.0)
+                {
+                    return Err(format!(
+                        "zone[{i}].{field} ({}): {v} is not a time or speed the rule can use; \
+                         give a number of {unit} > 0, or leave it out",
+                        z.name
+                    ));
+                }
+            }
         }
         Ok(())
     }
@@ -261,11 +294,11 @@ fn check_polygon(polygon: &[[f64; 2]]) -> Result<(), String> {
     Ok(())
 }
 
-/// Signed distance from `p` to the polygon's boundary, metres: positive inside, negative outside
-/// (even–odd rule). O(vertices).
-pub fn signed_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> f64 {
+/// The point of the polygon's boundary nearest to `p`, and whether `p` is inside (even–odd
+/// rule). O(vertices).
+pub fn nearest_on_boundary(polygon: &[[f64; 2]], p: [f64; 2]) -> ([f64; 2], bool) {
     let mut inside = false;
-    let mut best = f64::INFINITY;
+    let (mut best, mut nearest) = (f64::INFINITY, p);
     for (i, &a) in polygon.iter().enumerate() {
         let b = polygon[(i + 1) % polygon.len()];
         // Crossing test of a ray towards +x.
@@ -275,7 +308,7 @@ pub fn signed_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> f64 {
                 inside = !inside;
             }
         }
-        // Distance to the segment a–b.
+        // The nearest point of the segment a–b.
         let (dx, dz) = (b[0] - a[0], b[1] - a[1]);
         let len2 = dx * dx + dz * dz;
         let t = if len2 > 0.0 {
@@ -283,164 +316,21 @@ pub fn signed_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> f64 {
         } else {
             0.0
         };
-        let (ex, ez) = (a[0] + t * dx - p[0], a[1] + t * dz - p[1]);
-        best = best.min((ex * ex + ez * ez).sqrt());
-    }
-    if inside { best } else { -best }
-}
-
-/// Whether an alert opens or closes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum AlertKind {
-    /// A restricted object entered the zone.
-    Enter,
-    /// It left (more than the hysteresis outside).
-    Exit,
-}
-
-/// One alert.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Alert {
-    /// Enter or exit.
-    pub kind: AlertKind,
-    /// Zone name.
-    pub zone: String,
-    /// Object instance id.
-    pub instance: u16,
-    /// Object class.
-    pub class: String,
-    /// Object depth, m.
-    pub depth_m: f64,
-    /// Object azimuth, degrees.
-    pub azimuth_deg: f64,
-    /// Ground position `[x, z]`, m.
-    pub position_m: [f64; 2],
-    /// Frame number.
-    pub frame: u32,
-    /// Time of the frame, s from the start.
-    pub time_s: f64,
-}
-
-/// Zone state of every object over time.
-#[derive(Clone, Debug)]
-pub struct Geofence {
-    perimeter: Perimeter,
-    /// `(instance, zone index)` pairs currently inside.
-    inside: HashMap<(u16, usize), bool>,
-}
-
-impl Geofence {
-    /// Every object outside every zone.
-    pub fn new(perimeter: Perimeter) -> Self {
-        Self {
-            perimeter,
-            inside: HashMap::new(),
+        let q = [a[0] + t * dx, a[1] + t * dz];
+        let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+        if d < best {
+            (best, nearest) = (d, q);
         }
     }
+    (nearest, inside)
+}
 
-    /// The configuration.
-    pub fn perimeter(&self) -> &Perimeter {
-        &self.perimeter
-    }
-
-    /// Names of the zones `instance` is in now.
-    pub fn zones_of(&self, instance: u16) -> Vec<&str> {
-        self.perimeter
-            .zones
-            .iter()
-            .enumerate()
-            .filter(|(z, _)| self.inside.get(&(instance, *z)).copied().unwrap_or(false))
-            .map(|(_, zone)| zone.name.as_str())
-            .collect()
-    }
-
-    /// Whether `o` counts: detected, restricted class, confident enough, with a position.
-    fn position(&self, o: &ObjectEstimate) -> Option<[f64; 2]> {
-        let p = &self.perimeter;
-        let confident = o.confidence_db.is_none_or(|c| c >= p.min_confidence_db);
-        let restricted = p.restricted_classes.contains(&o.class);
-        match (
-            o.detected && confident && restricted,
-            o.depth_m,
-            o.azimuth_deg,
-        ) {
-            (true, Some(d), Some(az)) => {
-                let a = az.to_radians();
-                Some([d * a.sin(), d * a.cos()])
-            }
-            _ => None,
-        }
-    }
-
-    /// Updates the state with one frame's objects and returns the alerts it raises, by object
-    /// then zone. O(objects × vertices).
-    ///
-    /// # Example
-    /// A person detected 12 m straight ahead, inside the gate zone, raises one `Enter` alert:
-    /// ```
-    /// use metamoran_operator::geofence::{AlertKind, Geofence, Perimeter};
-    /// use metamoran_process::ObjectEstimate;
-    ///
-    /// let perimeter = Perimeter::parse(
-    ///     r#"
-    ///     restricted_classes = ["person"]
-    ///     min_confidence_db = 6.0
-    ///     hysteresis_m = 1.0
-    ///     [[zone]]
-    ///     name = "gate"
-    ///     polygon = [[-3.0, 8.0], [3.0, 8.0], [3.0, 16.0], [-3.0, 16.0]]
-    ///     "#,
-    /// )?;
-    /// let mut fence = Geofence::new(perimeter);
-    /// let person = ObjectEstimate {
-    ///     instance: 4,
-    ///     class: "person".into(),
-    ///     detected: true,
-    ///     depth_m: Some(12.0),
-    ///     azimuth_deg: Some(0.0),
-    ///     radial_velocity_mps: None,
-    ///     points: Vec::new(),
-    ///     confidence_db: Some(20.0),
-    ///     confidence: Some(0.97),
-    ///     evidence: None,
-    /// };
-    /// let alerts = fence.update(0, 0.0, &[person.clone()]);
-    /// assert_eq!(alerts.len(), 1);
-    /// assert_eq!((alerts[0].kind, alerts[0].zone.as_str()), (AlertKind::Enter, "gate"));
-    /// assert!(fence.update(1, 0.5, &[person]).is_empty(), "still inside: no new alert");
-    /// # Ok::<(), metamoran_operator::OperatorError>(())
-    /// ```
-    pub fn update(&mut self, frame: u32, time_s: f64, objects: &[ObjectEstimate]) -> Vec<Alert> {
-        let mut out = Vec::new();
-        for o in objects {
-            let Some(pos) = self.position(o) else {
-                continue;
-            };
-            for (z, zone) in self.perimeter.zones.iter().enumerate() {
-                let d = signed_distance(&zone.polygon, pos);
-                let state = self.inside.entry((o.instance, z)).or_insert(false);
-                let kind = match (*state, d) {
-                    (false, d) if d >= 0.0 => AlertKind::Enter,
-                    (true, d) if d < -self.perimeter.hysteresis_m => AlertKind::Exit,
-                    _ => continue,
-                };
-                *state = kind == AlertKind::Enter;
-                out.push(Alert {
-                    kind,
-                    zone: zone.name.clone(),
-                    instance: o.instance,
-                    class: o.class.clone(),
-                    depth_m: o.depth_m.unwrap_or(f64::NAN),
-                    azimuth_deg: o.azimuth_deg.unwrap_or(f64::NAN),
-                    position_m: pos,
-                    frame,
-                    time_s,
-                });
-            }
-        }
-        out
-    }
+/// Signed distance from `p` to the polygon's boundary, metres: positive inside, negative outside
+/// (even–odd rule). O(vertices).
+pub fn signed_distance(polygon: &[[f64; 2]], p: [f64; 2]) -> f64 {
+    let (q, inside) = nearest_on_boundary(polygon, p);
+    let d = (q[0] - p[0]).hypot(q[1] - p[1]);
+    if inside { d } else { -d }
 }
 
 #[cfg(test)]
@@ -470,82 +360,6 @@ mod tests {
         ];
         assert!(signed_distance(&l, [0.5, 3.0]) > 0.0);
         assert!(signed_distance(&l, [3.0, 3.0]) < 0.0);
-    }
-
-    fn object(instance: u16, class: &str, x: f64, z: f64, conf: Option<f64>) -> ObjectEstimate {
-        ObjectEstimate {
-            instance,
-            class: class.into(),
-            detected: true,
-            depth_m: Some((x * x + z * z).sqrt()),
-            azimuth_deg: Some(x.atan2(z).to_degrees()),
-            radial_velocity_mps: None,
-            points: Vec::new(),
-            confidence_db: conf,
-            confidence: None,
-            evidence: None,
-        }
-    }
-
-    fn perimeter() -> Perimeter {
-        Perimeter::parse(
-            "restricted_classes = [\"person\"]\nmin_confidence_db = 6.0\nhysteresis_m = 1.0\n\
-             [[zone]]\nname = \"yard\"\npolygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]\n",
-        )
-        .unwrap()
-    }
-
-    #[test]
-    fn hysteresis_keeps_a_border_object_from_flapping() {
-        let mut g = Geofence::new(perimeter());
-        // A person walking along x = 10 ± 0.5 m (the border) for 20 frames, then away.
-        let mut alerts = Vec::new();
-        for f in 0..25u32 {
-            let x = if f < 20 {
-                10.0 + if f % 2 == 0 { -0.5 } else { 0.5 }
-            } else {
-                12.0
-            };
-            alerts.extend(g.update(f, f as f64 * 0.1, &[object(3, "person", x, 5.0, Some(9.0))]));
-        }
-        let kinds: Vec<_> = alerts.iter().map(|a| (a.kind, a.frame)).collect();
-        assert_eq!(kinds, vec![(AlertKind::Enter, 0), (AlertKind::Exit, 20)]);
-        assert_eq!(alerts[0].zone, "yard");
-        assert!((alerts[0].position_m[0] - 9.5).abs() < 1e-9);
-        assert!(g.zones_of(3).is_empty());
-    }
-
-    #[test]
-    fn class_confidence_and_missed_frames() {
-        let mut g = Geofence::new(perimeter());
-        let inside = [5.0, 5.0];
-        // A car (not restricted) and an unconfident person raise nothing.
-        assert!(
-            g.update(
-                0,
-                0.0,
-                &[object(1, "car", inside[0], inside[1], Some(30.0))]
-            )
-            .is_empty()
-        );
-        assert!(
-            g.update(
-                0,
-                0.0,
-                &[object(2, "person", inside[0], inside[1], Some(3.0))]
-            )
-            .is_empty()
-        );
-        assert_eq!(
-            g.update(1, 0.1, &[object(2, "person", 5.0, 5.0, None)])
-                .len(),
-            1
-        );
-        // A frame where it is not detected keeps it inside.
-        let mut missed = object(2, "person", 50.0, 50.0, None);
-        missed.detected = false;
-        assert!(g.update(2, 0.2, &[missed]).is_empty());
-        assert_eq!(g.zones_of(2), vec!["yard"]);
     }
 
     /// Issue #18, item 7: each of these loaded silently and raised no alert.
@@ -792,39 +606,6 @@ mod tests {
         assert_eq!(p.hysteresis_m, 1.0);
     }
 
-    /// Two zones, overlapping: an object is in both, then only in the second, and each zone's
-    /// alerts name that zone.
-    #[test]
-    fn each_zone_keeps_its_own_state() {
-        let p = Perimeter::parse(
-            "restricted_classes = [\"car\"]\nhysteresis_m = 0.5\n\
-             [[zone]]\nname = \"near\"\npolygon = [[-5.0, 0.0], [5.0, 0.0], [5.0, 10.0], [-5.0, 10.0]]\n\
-             [[zone]]\nname = \"far\"\npolygon = [[-5.0, 8.0], [5.0, 8.0], [5.0, 20.0], [-5.0, 20.0]]\n",
-        )
-        .unwrap();
-        let mut g = Geofence::new(p);
-        let names = |a: &[Alert]| {
-            a.iter()
-                .map(|a| (a.kind, a.zone.clone()))
-                .collect::<Vec<_>>()
-        };
-        let a = g.update(0, 0.0, &[object(1, "car", 0.0, 9.0, None)]);
-        assert_eq!(
-            names(&a),
-            [
-                (AlertKind::Enter, "near".into()),
-                (AlertKind::Enter, "far".into())
-            ]
-        );
-        assert_eq!(g.zones_of(1), vec!["near", "far"]);
-        let a = g.update(1, 0.1, &[object(1, "car", 0.0, 15.0, None)]);
-        assert_eq!(names(&a), [(AlertKind::Exit, "near".into())]);
-        assert_eq!(g.zones_of(1), vec!["far"]);
-        // Another object has its own state.
-        let a = g.update(2, 0.2, &[object(2, "car", 0.0, 5.0, None)]);
-        assert_eq!(names(&a), [(AlertKind::Enter, "near".into())]);
-    }
-
     #[test]
     fn bad_files_name_the_field() {
         let e = Perimeter::parse(
@@ -841,6 +622,18 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("restricted_classes"), "{e}");
+        for (field, value) in [
+            ("dwell_s", "-1.0"),
+            ("approach_mps", "nan"),
+            ("approach_within_m", "0.0"),
+        ] {
+            let e = Perimeter::parse(&format!(
+                "restricted_classes = [\"car\"]\n[[zone]]\nname = \"a\"\npolygon = [[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]\n{field} = {value}\n"
+            ))
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains(&format!("zone[0].{field} (a)")), "{e}");
+        }
         let e = Perimeter::load(Path::new("/nonexistent/perimeter.toml"))
             .unwrap_err()
             .to_string();
