@@ -70,6 +70,9 @@ pub struct DemoReport {
     pub link: Option<String>,
     /// What went to the MQTT broker, if one was given.
     pub mqtt: Option<String>,
+    /// What went to the NATS server, if one was given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nats: Option<String>,
     /// Where the radar samples came from when not the simulated capture: the live stream and
     /// what arrived.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -134,6 +137,9 @@ impl fmt::Display for DemoReport {
         if let Some(m) = &self.mqtt {
             writeln!(f, "published: {m}")?;
         }
+        if let Some(n) = &self.nats {
+            writeln!(f, "published: {n}")?;
+        }
         if let Some(faults) = &self.faults {
             writeln!(f, "\nfaults (the other frames were processed):\n{faults}")?;
         }
@@ -170,6 +176,8 @@ struct Operator<'a> {
     state: OperatorState,
     period_s: f64,
     publisher: Option<&'a metamoran_operator::mqtt::Publisher>,
+    /// The site stream, if one was given.
+    nats: Option<&'a metamoran_operator::nats::NatsPublisher>,
     published: &'a Published,
     /// `alerts.jsonl`: every alert is on disk before it is published.
     log: &'a std::cell::RefCell<AlertLog>,
@@ -202,7 +210,8 @@ impl Operator<'_> {
             .map_err(|e| format!("frame {}: {e}", f.frame))?;
         let tracks = self.tracks();
         // A frame is logged and published once, across the attempts of `--edge auto`.
-        if self.published.take(f.frame) {
+        let new = self.published.take(f.frame);
+        if new {
             for a in &alerts {
                 self.log.borrow_mut().append(a)?;
             }
@@ -210,6 +219,11 @@ impl Operator<'_> {
                 p.frame(f);
                 for a in &alerts {
                     p.alert(a);
+                }
+            }
+            if let Some(n) = self.nats {
+                for a in &alerts {
+                    n.alert(a);
                 }
             }
         }
@@ -220,6 +234,23 @@ impl Operator<'_> {
         s.alerts.extend(alerts);
         s.link.update(s.frames_seen, e.latency, e.link);
         s.tracks = tracks;
+        if let Some(n) = self.nats
+            && new
+        {
+            n.publish(
+                "tracks",
+                &serde_json::json!({ "frame": f.frame, "time_s": time_s, "tracks": s.tracks }),
+            );
+            n.publish(
+                "health",
+                &serde_json::json!({
+                    "frame": f.frame,
+                    "frames_seen": s.frames_seen,
+                    "latency_ms": s.link.latency_ms,
+                    "link": s.link,
+                }),
+            );
+        }
         if let Some(view) = self.view.as_deref_mut() {
             view.show(&self.state)?;
         } else if !self.realtime {
@@ -243,6 +274,9 @@ pub struct DemoOptions {
     pub perimeter: Option<PathBuf>,
     /// Also publish to this MQTT broker.
     pub mqtt: Option<MqttConfig>,
+    /// Also publish to this NATS server: tracks and health on core NATS, alerts into the
+    /// site's JetStream stream.
+    pub nats: Option<metamoran_operator::nats::NatsConfig>,
     /// Draw the operator view on this terminal as each frame arrives.
     pub live: bool,
     /// Deliver the frames at the scene's frame rate (as a sensor would) even without the live
@@ -267,6 +301,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         firmware,
         perimeter,
         mqtt,
+        nats,
         live,
         realtime,
         dca1000,
@@ -295,6 +330,10 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     let publisher = mqtt
         .map(metamoran_operator::mqtt::Publisher::connect)
         .transpose()?;
+    let nats_publisher = nats
+        .as_ref()
+        .map(metamoran_operator::nats::NatsPublisher::connect)
+        .transpose()?;
     let published = Published::default();
     let log = std::cell::RefCell::new(AlertLog::create(&out.join("alerts.jsonl"))?);
     let mut view = if live { Some(LiveView::start()?) } else { None };
@@ -313,6 +352,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
             },
             period_s: period,
             publisher: publisher.as_ref(),
+            nats: nats_publisher.as_ref(),
             published: &published,
             log: &log,
             realtime,
@@ -381,6 +421,25 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         }
         _ => (None, None),
     };
+    let (nats_words, nats_failed) = match (nats, nats_publisher) {
+        (Some(config), Some(p)) => {
+            let to = format!("{} on {}", config.subject("*"), config.url);
+            match p.close(metamoran_operator::nats::CLOSE_TIMEOUT) {
+                Ok(st) => (
+                    Some(format!(
+                        "{} alert(s) stored in JetStream stream {} and tracks and health per                          frame to {to} ({} resend(s), {} message(s) dropped)",
+                        st.stored,
+                        config.stream(),
+                        st.retries,
+                        st.dropped
+                    )),
+                    None,
+                ),
+                Err(e) => (Some(format!("to {to}: {e}")), Some(e)),
+            }
+        }
+        _ => (None, None),
+    };
     let link = log.map(|l| link_words(&l.health));
     let mut report = DemoReport {
         out: out.to_path_buf(),
@@ -390,6 +449,7 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         alerts,
         link,
         mqtt: published,
+        nats: nats_words,
         radar: stream.as_ref().zip(dca1000.as_ref()).map(|(s, link)| {
             let (r, a) = (&s.recording, s.recording.counters.assembly);
             format!(
@@ -409,9 +469,9 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
     };
     report.files.push("operator.txt".into());
     write(&out.join("operator.txt"), report.to_string().as_bytes())?;
-    match unpublished {
-        Some(e) => Err(e.into()),
-        None => Ok(report),
+    match (unpublished, nats_failed) {
+        (Some(e), _) | (None, Some(e)) => Err(e.into()),
+        (None, None) => Ok(report),
     }
 }
 

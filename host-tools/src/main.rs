@@ -5,8 +5,8 @@ mod commands;
 
 use clap::{Parser, Subcommand};
 use commands::{
-    args::Locations, bench, calibrate, dca1000_emulate, demo, demo_capture, eval, inspect, map,
-    odometry, process, provision, record, simulate, summarize,
+    alerts, args::Locations, bench, calibrate, dca1000_emulate, demo, demo_capture, eval, inspect,
+    map, odometry, process, provision, record, simulate, summarize,
 };
 use std::process::ExitCode;
 
@@ -31,6 +31,7 @@ enum Command {
     Eval(eval::Args),
     Simulate(simulate::Args),
     Demo(demo::Args),
+    Alerts(alerts::Args),
     #[command(name = "demo-capture")]
     DemoCapture(demo_capture::Args),
     Bench(bench::Args),
@@ -52,6 +53,7 @@ fn run(cli: &Cli) -> commands::Result {
         Command::Eval(a) => eval::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Demo(a) => demo::run(a, at),
+        Command::Alerts(a) => alerts::run(a),
         Command::DemoCapture(a) => demo_capture::run(a, at),
         Command::Bench(a) => bench::run(a, at),
         Command::Provision(a) => provision::run(a, at),

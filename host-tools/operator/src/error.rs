@@ -65,6 +65,22 @@ pub enum OperatorError {
         /// What is wrong and what to do.
         problem: String,
     },
+    /// A malformed NATS URL, site or sensor name.
+    #[error("--nats {url}: {problem}")]
+    NatsAddress {
+        /// The URL given.
+        url: String,
+        /// What form is expected.
+        problem: String,
+    },
+    /// The NATS server refused, did not answer, or did not store what was sent.
+    #[error("NATS server {url}: {problem}")]
+    Nats {
+        /// The server's URL.
+        url: String,
+        /// What happened and what to do.
+        problem: String,
+    },
     /// A message could not be queued for publishing.
     #[error("MQTT {topic}: {reason}")]
     Publish {

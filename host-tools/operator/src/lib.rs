@@ -15,6 +15,7 @@ pub mod geofence;
 pub mod inspect;
 pub mod live;
 pub mod mqtt;
+pub mod nats;
 pub mod outputs;
 pub mod plot;
 pub mod record;

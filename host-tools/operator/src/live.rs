@@ -52,7 +52,7 @@ impl TrackRow {
 pub const ALERT_LINES: usize = 8;
 
 /// The telemetry link as the host sees it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct LinkHealth {
     /// Whether there is a link at all (the module under QEMU; in process there is none).
     pub present: bool,

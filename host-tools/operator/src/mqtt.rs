@@ -71,6 +71,11 @@ impl MqttLogin {
             password,
         }
     }
+
+    /// The password, for the client that logs in with it.
+    pub(crate) fn password(&self) -> &str {
+        &self.password
+    }
 }
 
 fn security(what: &Path, problem: impl ToString) -> OperatorError {

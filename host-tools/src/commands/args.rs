@@ -326,3 +326,71 @@ impl LinkArgs {
         Ok(Some(live))
     }
 }
+
+/// A password for `flag`'s user: the first line of `file`, else environment variable `env`;
+/// never the command line.
+///
+/// # Errors
+/// An unreadable file, or neither given.
+pub fn password(file: Option<&Path>, env: &str, flag: &str) -> Result<String, metamoran::Error> {
+    match (file, std::env::var(env)) {
+        (Some(file), _) => Ok(std::fs::read_to_string(file)
+            .map_err(|e| format!("{flag} password file {}: {e}", file.display()))?
+            .lines()
+            .next()
+            .unwrap_or_default()
+            .to_owned()),
+        (None, Ok(p)) => Ok(p),
+        (None, Err(_)) => Err(format!(
+            "{flag}: give the password in {env} or a password file (never on the command line)"
+        )
+        .into()),
+    }
+}
+
+/// The NATS server of the site stream and how to log in.
+#[derive(clap::Args, Debug, Clone)]
+pub struct NatsArgs {
+    /// NATS server (nats://HOST:PORT, or tls://HOST:PORT with --nats-ca): tracks and health on
+    /// core NATS, alerts into the site's JetStream stream, under metamoran.<site>.<sensor>.
+    #[arg(long, value_name = "URL")]
+    pub nats: Option<String>,
+    /// Site name (the subject level under metamoran.).
+    #[arg(long, default_value = "demo")]
+    pub site: String,
+    /// NATS user; the password comes from METAMORAN_NATS_PASSWORD or --nats-password-file.
+    #[arg(long, requires = "nats")]
+    pub nats_user: Option<String>,
+    /// File holding the NATS password (its first line).
+    #[arg(long, value_name = "FILE", requires = "nats_user")]
+    pub nats_password_file: Option<PathBuf>,
+    /// PEM file of the CA that signs the NATS server's certificate (TLS required then).
+    #[arg(long, value_name = "PEM", requires = "nats")]
+    pub nats_ca: Option<PathBuf>,
+}
+
+impl NatsArgs {
+    /// The server for sensor `sensor`, if `--nats` was given.
+    ///
+    /// # Errors
+    /// A malformed URL, site or sensor, or a missing password.
+    pub fn config(
+        &self,
+        sensor: &str,
+    ) -> Result<Option<metamoran_operator::nats::NatsConfig>, metamoran::Error> {
+        let Some(url) = &self.nats else {
+            return Ok(None);
+        };
+        let mut config = metamoran_operator::nats::NatsConfig::new(url, &self.site, sensor)?;
+        config.ca.clone_from(&self.nats_ca);
+        if let Some(user) = &self.nats_user {
+            let password = password(
+                self.nats_password_file.as_deref(),
+                "METAMORAN_NATS_PASSWORD",
+                "--nats-user",
+            )?;
+            config.login = Some(metamoran_operator::mqtt::MqttLogin::new(user, password));
+        }
+        Ok(Some(config))
+    }
+}

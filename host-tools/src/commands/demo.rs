@@ -1,6 +1,6 @@
 //! `metamoran demo`: the whole system on a built-in scene, no hardware.
 
-use super::args::{LinkArgs, Locations};
+use super::args::{LinkArgs, Locations, NatsArgs};
 use metamoran::demo::{DemoEdge, DemoOptions};
 use metamoran_operator::mqtt::{MqttConfig, MqttLogin, MqttTls};
 use std::path::PathBuf;
@@ -52,7 +52,7 @@ pub struct Args {
     /// retained status with a last will, under metamoran/<sensor>/.
     #[arg(long, value_name = "HOST:PORT")]
     mqtt: Option<String>,
-    /// Sensor id for the MQTT topics and client id.
+    /// Sensor id for the MQTT topics and client id, and the NATS subjects.
     #[arg(long, default_value = "demo")]
     sensor: String,
     /// TLS to the broker: PEM file of the CA that signs its certificate.
@@ -89,6 +89,9 @@ pub struct Args {
     /// A live stream in place of the simulated radar capture.
     #[command(flatten)]
     live_radar: LinkArgs,
+    /// The site stream (NATS JetStream).
+    #[command(flatten)]
+    nats: NatsArgs,
 }
 
 /// The broker `broker` with the TLS files and login of `args`.
@@ -99,25 +102,11 @@ fn mqtt_config(args: &Args, broker: &str) -> Result<MqttConfig, metamoran::Error
         client: args.mqtt_cert.clone().zip(args.mqtt_key.clone()),
     });
     if let Some(user) = &args.mqtt_user {
-        let password = match (
-            &args.mqtt_password_file,
-            std::env::var("METAMORAN_MQTT_PASSWORD"),
-        ) {
-            (Some(file), _) => std::fs::read_to_string(file)
-                .map_err(|e| format!("--mqtt-password-file {}: {e}", file.display()))?
-                .lines()
-                .next()
-                .unwrap_or_default()
-                .to_owned(),
-            (None, Ok(p)) => p,
-            (None, Err(_)) => {
-                return Err(
-                    "--mqtt-user: give the password in METAMORAN_MQTT_PASSWORD or \
-                     --mqtt-password-file"
-                        .into(),
-                );
-            }
-        };
+        let password = super::args::password(
+            args.mqtt_password_file.as_deref(),
+            "METAMORAN_MQTT_PASSWORD",
+            "--mqtt-user",
+        )?;
         config.login = Some(MqttLogin::new(user, password));
     }
     Ok(config)
@@ -141,6 +130,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         realtime: args.realtime,
         dca1000: args.live_radar.link()?,
         renumber_instances: args.renumber_instances,
+        nats: args.nats.config(&args.sensor)?,
     };
     super::print(&metamoran::demo::run(&args.out, &options)?, args.json)
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand, each an `Args` (clap) and a `run`; [`args`] holds the options
 //! several commands share and the command-line names of library enums.
 
+pub mod alerts;
 pub mod args;
 pub mod bench;
 pub mod calibrate;

@@ -1,0 +1,203 @@
+//! The site stream against a real server: Debian's `nats-server` with JetStream on file storage,
+//! started by each test on a free loopback port with a user/password login (issue #20 part 3).
+//! The server is killed and restarted while the demo runs, and no alert may be lost or doubled;
+//! a station that connects afterwards replays every alert in order; clients without the login,
+//! or with a wrong password, are refused.
+
+use metamoran::demo::{DemoEdge, DemoOptions, run};
+use metamoran_e2e::oracles_required;
+use metamoran_operator::mqtt::MqttLogin;
+use metamoran_operator::nats::{NatsConfig, NatsPublisher, replay};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The sensor's and the station's passwords (test-only; a site's come from files).
+const SENSOR_PASSWORD: &str = "sensor-test-password-7f3a";
+const STATION_PASSWORD: &str = "station-test-password-c91e";
+
+struct Server {
+    child: Child,
+    port: u16,
+    config: PathBuf,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn nats_server() -> Option<PathBuf> {
+    ["/usr/sbin/nats-server", "/usr/bin/nats-server"]
+        .into_iter()
+        .map(PathBuf::from)
+        .find(|p| p.exists())
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// A server config in `dir`: loopback `port`, JetStream stored in `dir/store`, two users.
+fn write_config(dir: &Path, port: u16) -> PathBuf {
+    let path = dir.join("nats.conf");
+    std::fs::write(
+        &path,
+        format!(
+            "listen: 127.0.0.1:{port}\n\
+             jetstream {{ store_dir: \"{}\" }}\n\
+             authorization {{ users: [\n  \
+               {{ user: gate, password: \"{SENSOR_PASSWORD}\" }}\n  \
+               {{ user: station, password: \"{STATION_PASSWORD}\" }}\n] }}\n",
+            dir.join("store").display()
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// Starts the server on `config` and waits until it accepts connections.
+fn start(exe: &Path, config: &Path, port: u16) -> Server {
+    let child = Command::new(exe)
+        .args(["-c".as_ref(), config.as_os_str()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "nats-server did not start");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    Server {
+        child,
+        port,
+        config: config.to_owned(),
+    }
+}
+
+fn login(user: &str, password: &str) -> Option<MqttLogin> {
+    Some(MqttLogin::new(user, password.to_owned()))
+}
+
+fn config(port: u16, sensor: &str, who: Option<MqttLogin>) -> NatsConfig {
+    let mut c = NatsConfig::new(&format!("nats://127.0.0.1:{port}"), "yard", sensor).unwrap();
+    c.login = who;
+    c
+}
+
+/// Waits until `path` has `n` lines; returns them.
+fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let lines: Vec<String> = std::fs::read_to_string(path)
+            .unwrap_or_default()
+            .lines()
+            .map(String::from)
+            .collect();
+        if lines.len() >= n {
+            return lines;
+        }
+        assert!(Instant::now() < deadline, "{} never had {n} lines", path.display());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn alerts_survive_a_server_restart_and_a_late_station_replays_them_in_order() {
+    let Some(exe) = nats_server() else {
+        assert!(!oracles_required(), "nats-server is required (apt-get install -y nats-server)");
+        eprintln!("SKIPPED: nats-server not installed");
+        return;
+    };
+    let state = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let server = start(&exe, &write_config(state.path(), port), port);
+    let out = tempfile::tempdir().unwrap();
+    let log = out.path().join("alerts.jsonl");
+    let sensor = config(port, "gate", login("gate", SENSOR_PASSWORD));
+    let demo = std::thread::spawn({
+        let (dir, sensor) = (out.path().to_owned(), sensor.clone());
+        move || {
+            run(
+                &dir,
+                &DemoOptions {
+                    edge: DemoEdge::InProcess,
+                    nats: Some(sensor),
+                    realtime: true,
+                    ..DemoOptions::default()
+                },
+            )
+        }
+    });
+    // Down after the first alert, back (same store) after the second was raised.
+    wait_for_lines(&log, 1);
+    let (config_path, port) = (server.config.clone(), server.port);
+    drop(server);
+    wait_for_lines(&log, 2);
+    std::thread::sleep(Duration::from_millis(500));
+    let server = start(&exe, &config_path, port);
+    let report = demo
+        .join()
+        .unwrap()
+        .expect("the run must survive the server");
+    assert_eq!(report.frames, 22);
+    let words = report.nats.clone().unwrap_or_default();
+    assert!(words.contains("stored in JetStream"), "{words}");
+    let expected: Vec<String> = report
+        .alerts
+        .iter()
+        .map(|a| serde_json::to_string(a).unwrap())
+        .collect();
+    assert!(expected.len() >= 3, "{expected:?}");
+    assert_eq!(wait_for_lines(&log, expected.len()), expected);
+
+    // A station that was never connected replays the stream: every alert once, in order.
+    let station = config(port, "station", login("station", STATION_PASSWORD));
+    let stored = replay(&station, 1000).unwrap();
+    let got: Vec<&str> = stored.iter().map(|s| s.json.as_str()).collect();
+    assert_eq!(got, expected, "every alert once, in order");
+    assert!(stored.iter().all(|s| s.sensor == "gate"));
+    let sequences: Vec<u64> = stored.iter().map(|s| s.sequence).collect();
+    assert_eq!(sequences, (1..=expected.len() as u64).collect::<Vec<_>>());
+
+    // The server kept them on file: after another restart they are all still there.
+    drop(server);
+    let _server = start(&exe, &config_path, port);
+    assert_eq!(replay(&station, 1000).unwrap().len(), expected.len());
+}
+
+#[test]
+fn clients_without_the_login_are_refused() {
+    let Some(exe) = nats_server() else {
+        assert!(!oracles_required(), "nats-server is required (apt-get install -y nats-server)");
+        return;
+    };
+    let state = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let _server = start(&exe, &write_config(state.path(), port), port);
+    for (who, what) in [
+        (None, "no login"),
+        (login("gate", "not-the-password"), "a wrong password"),
+        (login("intruder", SENSOR_PASSWORD), "an unknown user"),
+    ] {
+        let e = NatsPublisher::connect(&config(port, "gate", who.clone()))
+            .err()
+            .unwrap_or_else(|| panic!("a sensor with {what} connected"));
+        assert!(e.to_string().contains("cannot connect"), "{what}: {e}");
+        let e = replay(&config(port, "station", who), 10).unwrap_err();
+        assert!(e.to_string().contains("cannot connect"), "{what}: {e}");
+    }
+    // The right login gets in, and creates the stream.
+    let p = NatsPublisher::connect(&config(port, "gate", login("gate", SENSOR_PASSWORD))).unwrap();
+    p.close(Duration::from_secs(5)).unwrap();
+    assert!(replay(&config(port, "station", login("station", STATION_PASSWORD)), 10)
+        .unwrap()
+        .is_empty());
+}
