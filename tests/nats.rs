@@ -104,7 +104,11 @@ fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
         if lines.len() >= n {
             return lines;
         }
-        assert!(Instant::now() < deadline, "{} never had {n} lines", path.display());
+        assert!(
+            Instant::now() < deadline,
+            "{} never had {n} lines",
+            path.display()
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
 }
@@ -112,7 +116,10 @@ fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
 #[test]
 fn alerts_survive_a_server_restart_and_a_late_station_replays_them_in_order() {
     let Some(exe) = nats_server() else {
-        assert!(!oracles_required(), "nats-server is required (apt-get install -y nats-server)");
+        assert!(
+            !oracles_required(),
+            "nats-server is required (apt-get install -y nats-server)"
+        );
         eprintln!("SKIPPED: nats-server not installed");
         return;
     };
@@ -176,7 +183,10 @@ fn alerts_survive_a_server_restart_and_a_late_station_replays_them_in_order() {
 #[test]
 fn clients_without_the_login_are_refused() {
     let Some(exe) = nats_server() else {
-        assert!(!oracles_required(), "nats-server is required (apt-get install -y nats-server)");
+        assert!(
+            !oracles_required(),
+            "nats-server is required (apt-get install -y nats-server)"
+        );
         return;
     };
     let state = tempfile::tempdir().unwrap();
@@ -197,7 +207,12 @@ fn clients_without_the_login_are_refused() {
     // The right login gets in, and creates the stream.
     let p = NatsPublisher::connect(&config(port, "gate", login("gate", SENSOR_PASSWORD))).unwrap();
     p.close(Duration::from_secs(5)).unwrap();
-    assert!(replay(&config(port, "station", login("station", STATION_PASSWORD)), 10)
+    assert!(
+        replay(
+            &config(port, "station", login("station", STATION_PASSWORD)),
+            10
+        )
         .unwrap()
-        .is_empty());
+        .is_empty()
+    );
 }

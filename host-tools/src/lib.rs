@@ -12,6 +12,7 @@
 pub mod bench;
 pub mod demo;
 pub mod live;
+pub mod site;
 
 /// What the demo and the benchmarks fail with: any host crate's error, or a message of their
 /// own (they sit at the binary's edge, where strings are allowed).

@@ -6,7 +6,7 @@ mod commands;
 use clap::{Parser, Subcommand};
 use commands::{
     alerts, args::Locations, bench, calibrate, dca1000_emulate, demo, demo_capture, eval, inspect,
-    map, odometry, process, provision, record, simulate, summarize,
+    map, odometry, process, provision, record, simulate, site, summarize,
 };
 use std::process::ExitCode;
 
@@ -32,6 +32,7 @@ enum Command {
     Simulate(simulate::Args),
     Demo(demo::Args),
     Alerts(alerts::Args),
+    Site(site::Args),
     #[command(name = "demo-capture")]
     DemoCapture(demo_capture::Args),
     Bench(bench::Args),
@@ -54,6 +55,7 @@ fn run(cli: &Cli) -> commands::Result {
         Command::Simulate(a) => simulate::run(a),
         Command::Demo(a) => demo::run(a, at),
         Command::Alerts(a) => alerts::run(a),
+        Command::Site(a) => site::run(a),
         Command::DemoCapture(a) => demo_capture::run(a, at),
         Command::Bench(a) => bench::run(a, at),
         Command::Provision(a) => provision::run(a, at),

@@ -65,6 +65,14 @@ pub enum OperatorError {
         /// What is wrong and what to do.
         problem: String,
     },
+    /// A malformed or unreadable site file.
+    #[error("{source_name}: {problem}")]
+    Site {
+        /// The file.
+        source_name: String,
+        /// The field and what is wrong.
+        problem: String,
+    },
     /// A malformed NATS URL, site or sensor name.
     #[error("--nats {url}: {problem}")]
     NatsAddress {

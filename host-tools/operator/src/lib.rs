@@ -19,6 +19,7 @@ pub mod nats;
 pub mod outputs;
 pub mod plot;
 pub mod record;
+pub mod site;
 pub mod tracking;
 pub mod watch;
 

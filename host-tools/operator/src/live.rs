@@ -14,8 +14,9 @@ use ratatui::widgets::{Block, Cell, Paragraph, Row, Table};
 use serde::Serialize;
 use std::time::Duration;
 
-/// One confirmed track as the operator sees it.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+/// One confirmed track as the operator sees it, and as a sensor publishes it to the site.
+#[derive(Clone, Debug, Serialize, serde::Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct TrackRow {
     /// Track id.
     pub id: u32,
@@ -27,6 +28,10 @@ pub struct TrackRow {
     pub azimuth_deg: f64,
     /// Ground speed, m/s.
     pub speed_mps: f64,
+    /// Ground position in the sensor's frame `[x, z]`, m.
+    pub position_m: [f64; 2],
+    /// Ground velocity in the sensor's frame, m/s.
+    pub velocity_mps: [f64; 2],
     /// Whether this frame gave it no detection (its position is a prediction).
     pub coasting: bool,
     /// Zones it is in.
@@ -42,6 +47,8 @@ impl TrackRow {
             depth_m: track.range_m(),
             azimuth_deg: track.azimuth_deg(),
             speed_mps: track.velocity_mps[0].hypot(track.velocity_mps[1]),
+            position_m: track.position_m,
+            velocity_mps: track.velocity_mps,
             coasting: track.detection.is_none(),
             zones,
         }
@@ -345,6 +352,8 @@ mod tests {
                     depth_m: 37.126,
                     azimuth_deg: 3.04,
                     speed_mps: 0.04,
+                    position_m: [1.97, 37.07],
+                    velocity_mps: [0.04, 0.0],
                     coasting: false,
                     zones: vec!["far lot".into()],
                 },
@@ -354,6 +363,8 @@ mod tests {
                     depth_m: 12.5,
                     azimuth_deg: -8.0,
                     speed_mps: 1.4,
+                    position_m: [-1.74, 12.38],
+                    velocity_mps: [1.4, 0.0],
                     coasting: true,
                     zones: vec![],
                 },

@@ -408,6 +408,41 @@ fn perimeter(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64
     (layout, car_range)
 }
 
+/// The site preset's world on the site plan (`[x, y]`, m; [`crate::site`]): two people whose
+/// walks cross near (0, 22) and a car driving across at y = 33, 40 frames 0.25 s apart. No
+/// clutter but each pole's ground: the preset is about several sensors seeing one object.
+pub fn site_world(rng: &mut impl Rng) -> Layout {
+    let mut p = Placer {
+        rng,
+        difficulty: Difficulty::Standard,
+        objects: Vec::new(),
+        keep_clear: Vec::new(),
+        max_range: 60.0,
+    };
+    let y = p.rng.random_range(18.0..19.0);
+    let walks = [
+        ("person", [-8.0, y], [8.0, y + 7.0], 1.4),
+        ("person", [8.0, y + 1.0], [-8.0, y + 6.0], 1.5),
+        ("car", [-14.0, 33.0], [16.0, 33.0], 3.0),
+    ];
+    let mut paths = Vec::new();
+    for (class, from, to, speed) in walks {
+        let shape = p.shape(class, from);
+        p.push(class, shape, [0.0; 2]);
+        paths.push(Path {
+            id: p.next_id() - 1,
+            waypoints: vec![from, to],
+            speed,
+        });
+    }
+    Layout {
+        objects: p.objects,
+        paths,
+        frames: 40,
+        frame_period_s: 0.25,
+    }
+}
+
 /// The crossing preset: two walkers whose paths cross and a slow car behind them.
 fn crossing(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64) {
     const FRAMES: u16 = 30;

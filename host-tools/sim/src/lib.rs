@@ -13,6 +13,7 @@ pub mod object;
 pub mod radar;
 pub mod shape;
 pub mod signal;
+pub mod site;
 pub mod writer;
 
 /// Why a scene could not be written.
@@ -242,39 +243,18 @@ pub fn simulate_scene_with(
         signal::ChannelErrors::draw(b, tx, rx, board_bin_m(kind))
     });
     let extra = ground(&mut rng, config.max_range() as f64);
-    let camera = camera_config();
-    let model = CameraModel::new(&camera);
-    let mut adc = Vec::new();
-    let mut shots = Vec::new();
-    let mut frames = Vec::new();
-    for f in 0..layout.frames {
-        let t = f64::from(f) * layout.frame_period_s;
-        let objects = motion::at(&layout.objects, &layout.paths, t);
-        let echoes = signal::echoes(&objects, &extra, &config, signal::ELEVATION_BEAM_DEG);
-        adc.extend(signal::synthesize(
-            &config,
-            &echoes,
-            &elevation,
-            errors.as_ref(),
-            &mut rng,
-        ));
-        let (shot, truth_objects) = film(&objects, &model, &camera, difficulty, &mut rng);
-        frames.push(TruthFrame {
-            frame: u32::from(f),
-            ego: Ego {
-                x: 0.0,
-                z: 0.0,
-                yaw: 0.0,
-                vx: 0.0,
-                vz: 0.0,
-            },
-            objects: truth_objects,
-        });
-        shots.push(shot);
-    }
+    let (adc, mut shots, mut frames) = film_frames(
+        &config,
+        (&layout.objects, &layout.paths),
+        &|o| o.clone(),
+        (&extra, &elevation, errors.as_ref()),
+        difficulty,
+        &mut rng,
+    );
     if renumbered {
         renumber(&mut shots, &mut frames, scene_seed(seed, index));
     }
+    let camera = camera_config();
     SimulatedScene {
         objects: layout.objects,
         radar: config,
@@ -290,6 +270,44 @@ pub fn simulate_scene_with(
         lidar: Vec::new(),
         truth: Truth { frames },
     }
+}
+
+/// Every frame of a scene at `config`'s frame count and period: the objects moved along their
+/// paths, put into the radar's frame by `view`, their echoes (with `extra` scatterers, per-TX
+/// `elevation` and board `errors`) synthesized, and the camera's products and truth.
+fn film_frames(
+    config: &metamoran_dsp::config::RadarConfig,
+    (objects, paths): (&[object::SceneObject], &[motion::Path]),
+    view: &dyn Fn(&object::SceneObject) -> object::SceneObject,
+    (extra, elevation, errors): (&[Scatterer], &[i16], Option<&signal::ChannelErrors>),
+    difficulty: Difficulty,
+    rng: &mut Pcg64Mcg,
+) -> (Vec<u8>, Vec<Shot>, Vec<TruthFrame>) {
+    let camera = camera_config();
+    let model = CameraModel::new(&camera);
+    let mut adc = Vec::new();
+    let mut shots = Vec::new();
+    let mut frames = Vec::new();
+    for f in 0..config.frames {
+        let t = f64::from(f) * config.frame_period_s;
+        let moved: Vec<_> = motion::at(objects, paths, t).iter().map(view).collect();
+        let echoes = signal::echoes(&moved, extra, config, signal::ELEVATION_BEAM_DEG);
+        adc.extend(signal::synthesize(config, &echoes, elevation, errors, rng));
+        let (shot, truth_objects) = film(&moved, &model, &camera, difficulty, rng);
+        frames.push(TruthFrame {
+            frame: f,
+            ego: Ego {
+                x: 0.0,
+                z: 0.0,
+                yaw: 0.0,
+                vx: 0.0,
+                vz: 0.0,
+            },
+            objects: truth_objects,
+        });
+        shots.push(shot);
+    }
+    (adc, shots, frames)
 }
 
 /// What the camera makes of `objects` (radar frame), and the truth of the objects of interest.

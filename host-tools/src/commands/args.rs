@@ -85,6 +85,9 @@ pub enum PresetArg {
     Perimeter,
     /// Multi-object tracking: 30 frames of two people whose walks cross and a slow car.
     Crossing,
+    /// Three poles with overlapping coverage watching one site (two people crossing, a car):
+    /// OUT/site-<seed>/ holds site.toml and one bundle per pole.
+    Site,
     /// The radar on a vehicle driving down a street, 20 frames at 10 Hz, with an elevated TX:
     /// dense radar mapping's scenes.
     Drive,
@@ -92,17 +95,20 @@ pub enum PresetArg {
     Corner,
 }
 
-impl From<PresetArg> for metamoran_sim::layout::Preset {
-    fn from(a: PresetArg) -> Self {
-        match a {
-            PresetArg::ParkingLot => Self::ParkingLot,
-            PresetArg::LongRange => Self::LongRange,
-            PresetArg::Moving => Self::Moving,
-            PresetArg::Perimeter => Self::Perimeter,
-            PresetArg::Crossing => Self::Crossing,
-            PresetArg::Drive => Self::Drive,
-            PresetArg::Corner => Self::Corner,
-        }
+impl PresetArg {
+    /// The single-sensor scene preset (`None` for the multi-pole site).
+    pub fn scene(self) -> Option<metamoran_sim::layout::Preset> {
+        use metamoran_sim::layout::Preset;
+        Some(match self {
+            PresetArg::ParkingLot => Preset::ParkingLot,
+            PresetArg::LongRange => Preset::LongRange,
+            PresetArg::Moving => Preset::Moving,
+            PresetArg::Perimeter => Preset::Perimeter,
+            PresetArg::Crossing => Preset::Crossing,
+            PresetArg::Drive => Preset::Drive,
+            PresetArg::Corner => Preset::Corner,
+            PresetArg::Site => return None,
+        })
     }
 }
 

@@ -17,6 +17,7 @@ pub mod progress;
 pub mod provision;
 pub mod record;
 pub mod simulate;
+pub mod site;
 pub mod summarize;
 
 /// What a command returns: any library error, shown by `main` as `error: …`.

@@ -1,13 +1,12 @@
 //! `metamoran simulate`: scene bundles from the simulator.
 
 use super::args::{PresetArg, RadarArg};
-use metamoran_sim::layout::Preset;
 use std::path::PathBuf;
 
 /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)\n  metamoran simulate --preset crossing --renumber-instances --seed 2 --out scenes   (tracking: instance ids renumbered every frame)"
+    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)\n  metamoran simulate --preset crossing --renumber-instances --seed 2 --out scenes   (tracking: instance ids renumbered every frame)\n  metamoran simulate --preset site --seed 1 --out sites   (three poles, one site: site-1/site.toml and a bundle per pole)"
 )]
 pub struct Args {
     /// Scene preset.
@@ -48,7 +47,9 @@ pub struct Args {
 /// # Errors
 /// A scene that could not be written.
 pub fn run(args: &Args) -> super::Result {
-    let preset = Preset::from(args.preset);
+    let Some(preset) = args.preset.scene() else {
+        return site(args);
+    };
     let bar = super::progress::bar(args.count, "scenes", true);
     bar.set_message(format!("simulating {}", preset.name()));
     let difficulty = if args.hard {
@@ -72,5 +73,29 @@ pub fn run(args: &Args) -> super::Result {
     )?;
     bar.finish();
     eprintln!("wrote {} bundle(s) to {}", dirs.len(), args.out.display());
+    Ok(())
+}
+
+/// `--preset site`: the three poles' bundles and the site file.
+fn site(args: &Args) -> super::Result {
+    let kind: metamoran_sim::radar::RadarKind = args.radar.into();
+    if kind == metamoran_sim::radar::RadarKind::Mmwcas
+        || args.hard
+        || args.board.is_some()
+        || args.renumber_instances
+        || args.count != 1
+    {
+        return Err(
+            "--preset site: one site per run (--count 1) on --radar cascade or \
+                    xwr18xx, without --hard, --board or --renumber-instances"
+                .into(),
+        );
+    }
+    let dir = metamoran_sim::site::simulate_site(kind, args.seed, &args.out)?;
+    eprintln!(
+        "wrote {} ({} poles and site.toml)",
+        dir.display(),
+        metamoran_sim::site::POLES.len()
+    );
     Ok(())
 }

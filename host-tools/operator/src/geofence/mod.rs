@@ -90,9 +90,11 @@ pub struct Sighting {
     pub position_m: [f64; 2],
     /// Ground velocity, m/s.
     pub velocity_mps: [f64; 2],
-    /// The camera instance of this frame's detection; `None` when the track coasted (its
-    /// position is a prediction, which moves no zone state).
+    /// The camera instance of this frame's detection, where there is one camera.
     pub instance: Option<u16>,
+    /// Whether the position was measured this frame; a coasting prediction moves no zone
+    /// state.
+    pub measured: bool,
 }
 
 impl Sighting {
@@ -104,11 +106,8 @@ impl Sighting {
             position_m: track.position_m,
             velocity_mps: track.velocity_mps,
             instance: track.detection.and(instance),
+            measured: track.detection.is_some(),
         }
-    }
-
-    fn measured(&self) -> bool {
-        self.instance.is_some()
     }
 
     /// The alert of `kind` in `zone` this sighting raises at `frame`, `time_s`.
@@ -181,6 +180,13 @@ impl Geofence {
             .collect()
     }
 
+    /// Forgets `track` without a `lost` alert: it did not vanish, it became another track
+    /// (the site merging two tracks of one object).
+    pub fn forget(&mut self, track: u32) {
+        self.last.remove(&track);
+        self.state.retain(|(t, _), _| *t != track);
+    }
+
     /// Updates the state with one frame's confirmed tracks and returns the alerts it raises:
     /// `lost` first, then by track and zone. A track with state that is not among `sightings`
     /// was deleted. O(tracks × zones × vertices).
@@ -205,6 +211,7 @@ impl Geofence {
     ///     position_m: [0.0, 12.0],
     ///     velocity_mps: [0.0, 0.0],
     ///     instance: Some(4),
+    ///     measured: true,
     /// };
     /// let alerts = fence.update(0, 0.0, &[person.clone()]);
     /// assert_eq!(alerts.len(), 1);
@@ -226,7 +233,7 @@ impl Geofence {
                 let distance = dx.hypot(dz);
                 let signed = if inside { distance } else { -distance };
                 let st = self.state.entry((s.track, z)).or_default();
-                if s.measured() {
+                if s.measured {
                     match (st.inside, signed) {
                         (false, d) if d >= 0.0 => {
                             *st = InZone {
@@ -256,7 +263,7 @@ impl Geofence {
                     });
                 }
                 if let Some(limit) = zone.approach_mps
-                    && s.measured()
+                    && s.measured
                     && !st.inside
                 {
                     let closing = if distance > 0.0 {
@@ -324,6 +331,7 @@ mod tests {
             position_m: [x, z],
             velocity_mps: [0.0; 2],
             instance: Some(1),
+            measured: true,
         }
     }
 
@@ -371,7 +379,7 @@ mod tests {
         // A frame where the track coasts on its prediction keeps it inside, wherever the
         // prediction is.
         let mut coasting = at(2, "person", 50.0, 50.0);
-        coasting.instance = None;
+        coasting.measured = false;
         assert!(g.update(2, 0.2, &[coasting]).is_empty());
         assert_eq!(g.zones_of(2), vec!["yard"]);
     }

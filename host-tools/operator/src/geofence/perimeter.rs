@@ -127,7 +127,8 @@ impl Perimeter {
         Ok(p)
     }
 
-    fn check(&self) -> Result<(), String> {
+    /// Checks every field; the problem in words, naming the field.
+    pub(crate) fn check(&self) -> Result<(), String> {
         if !(self.hysteresis_m.is_finite() && self.hysteresis_m >= 0.0) {
             return Err("hysteresis_m: give a distance ≥ 0 in metres".into());
         }
