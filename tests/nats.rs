@@ -5,7 +5,7 @@
 //! or with a wrong password, are refused.
 
 use metamoran::demo::{DemoEdge, DemoOptions, run};
-use metamoran_e2e::oracles_required;
+use metamoran_e2e::{free_port, http, oracles_required, post_login, site_folder};
 use metamoran_operator::mqtt::MqttLogin;
 use metamoran_operator::nats::{NatsConfig, NatsPublisher, replay};
 use std::path::{Path, PathBuf};
@@ -34,14 +34,6 @@ fn nats_server() -> Option<PathBuf> {
         .into_iter()
         .map(PathBuf::from)
         .find(|p| p.exists())
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
 }
 
 /// A server config in `dir`: loopback `port`, JetStream stored in `dir/store`, two users.
@@ -115,17 +107,10 @@ fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
 
 #[test]
 fn alerts_survive_a_server_restart_and_a_late_station_replays_them_in_order() {
-    let Some(exe) = nats_server() else {
-        assert!(
-            !oracles_required(),
-            "nats-server is required (apt-get install -y nats-server)"
-        );
-        eprintln!("SKIPPED: nats-server not installed");
+    let Some((exe, _state, server)) = with_server() else {
         return;
     };
-    let state = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let server = start(&exe, &write_config(state.path(), port), port);
+    let port = server.port;
     let out = tempfile::tempdir().unwrap();
     let log = out.path().join("alerts.jsonl");
     let sensor = config(port, "gate", login("gate", SENSOR_PASSWORD));
@@ -182,16 +167,10 @@ fn alerts_survive_a_server_restart_and_a_late_station_replays_them_in_order() {
 
 #[test]
 fn clients_without_the_login_are_refused() {
-    let Some(exe) = nats_server() else {
-        assert!(
-            !oracles_required(),
-            "nats-server is required (apt-get install -y nats-server)"
-        );
+    let Some((_, _state, _server)) = with_server() else {
         return;
     };
-    let state = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let _server = start(&exe, &write_config(state.path(), port), port);
+    let port = _server.port;
     for (who, what) in [
         (None, "no login"),
         (login("gate", "not-the-password"), "a wrong password"),
@@ -215,4 +194,122 @@ fn clients_without_the_login_are_refused() {
         .unwrap()
         .is_empty()
     );
+}
+
+/// Logs in to the web view at `addr`; the session cookie.
+fn web_login(addr: std::net::SocketAddr, user: &str, password: &str) -> String {
+    let reply = post_login(addr, &format!("user={user}&password={password}"));
+    reply
+        .lines()
+        .find_map(|l| {
+            l.strip_prefix("set-cookie: ")
+                .or_else(|| l.strip_prefix("Set-Cookie: "))
+        })
+        .and_then(|c| c.split(';').next())
+        .unwrap_or_else(|| panic!("no session cookie: {reply}"))
+        .to_owned()
+}
+
+/// `GET path` with `cookie`; the body.
+fn web_get(addr: std::net::SocketAddr, path: &str, cookie: &str) -> String {
+    let reply = http(
+        addr,
+        &format!("GET {path} HTTP/1.1\r\nCookie: {cookie}"),
+        "",
+    );
+    reply
+        .split_once("\r\n\r\n")
+        .map(|(_, b)| b.to_owned())
+        .unwrap_or_default()
+}
+
+/// A server on a free port with its state in a new folder, or `None` (skipped, unless the
+/// oracles are required) without nats-server.
+fn with_server() -> Option<(PathBuf, tempfile::TempDir, Server)> {
+    let Some(exe) = nats_server() else {
+        assert!(
+            !oracles_required(),
+            "nats-server is required (apt-get install -y nats-server)"
+        );
+        eprintln!("SKIPPED: nats-server not installed");
+        return None;
+    };
+    let state = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let server = start(&exe, &write_config(state.path(), port), port);
+    Some((exe, state, server))
+}
+
+/// The deployment's path (issue #20 parts 2–4): three poles publish their tracks to
+/// nats-server, the site process (`serve --nats`) fuses them, evaluates the zone once, stores
+/// its alerts in the stream with the sensors that saw each object, and the page's state shows
+/// the site tracks and every sensor's health.
+#[test]
+fn the_site_process_fuses_the_poles_tracks_from_nats() {
+    let Some((_, _state, _server)) = with_server() else {
+        return;
+    };
+    let port = _server.port;
+    let out = tempfile::tempdir().unwrap();
+    let dir = site_folder(out.path());
+    let file = metamoran_operator::site::SiteFile::load(&dir.join("site.toml")).unwrap();
+    let site_name = file.name.clone();
+    let serve_config = config(port, "serve", login("station", STATION_PASSWORD));
+    let mut serve_config = serve_config;
+    serve_config.site.clone_from(&site_name);
+    let password = "web-test-password-0b7c";
+    let users = metamoran_web::login::Users::parse(&format!(
+        "operator:{}",
+        metamoran_web::login::hash_password(password).unwrap()
+    ))
+    .unwrap();
+    let web = metamoran_web::start(metamoran_web::ServeOptions {
+        site: file,
+        users,
+        feed: metamoran_web::Feed::Nats(serve_config),
+        listen: "127.0.0.1:0".parse().unwrap(),
+        session_ttl: Duration::from_secs(600),
+        silence_s: 60.0,
+    })
+    .unwrap();
+    let addr = web.addr();
+    // The poles, live: one lap of 40 frames at 4 Hz.
+    let sent = metamoran::site::publish_sensors(
+        &dir,
+        &|site, sensor| {
+            let mut c = config(port, sensor, login("gate", SENSOR_PASSWORD));
+            c.site = site.to_owned();
+            Ok(c)
+        },
+        1,
+    )
+    .unwrap();
+    assert_eq!(sent, 3 * 40);
+    std::thread::sleep(Duration::from_millis(500));
+    let cookie = web_login(addr, "operator", password);
+    let body = web_get(addr, "/api/state", &cookie);
+    let state: serde_json::Value =
+        serde_json::from_str(&body).unwrap_or_else(|e| panic!("{e}: {body}"));
+    for h in state["health"].as_array().unwrap() {
+        assert_eq!(h["accepted"], 40, "{h}");
+        assert_eq!(h["rejected"], 0, "{h}");
+    }
+    let tracks = state["tracks"].as_array().unwrap();
+    assert!((2..=4).contains(&tracks.len()), "{tracks:?}");
+    // The site's alerts are in the stream, each with the sensors that saw the object; the two
+    // people's entries into the yard were seen by two poles or more.
+    let mut station = config(port, "station", login("station", STATION_PASSWORD));
+    station.site = site_name;
+    let stored = replay(&station, 1000).unwrap();
+    let site_alerts: Vec<serde_json::Value> = stored
+        .iter()
+        .filter(|s| s.sensor == "site")
+        .map(|s| serde_json::from_str(&s.json).unwrap())
+        .collect();
+    let enters: Vec<_> = site_alerts
+        .iter()
+        .filter(|a| a["kind"] == "enter" && a["sensors"].as_array().unwrap().len() >= 2)
+        .collect();
+    assert_eq!(enters.len(), 2, "{site_alerts:?}");
+    web.stop();
 }

@@ -1,6 +1,6 @@
 //! Helpers shared by the end-to-end tests.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The shared data folder: `$METAMORAN_SHARED`, else `shared/` beside the checkout.
 pub fn shared_dir() -> PathBuf {
@@ -76,4 +76,53 @@ pub fn run_oracle(script: &str, args: &[&std::ffi::OsStr], what: &str) -> Option
         String::from_utf8_lossy(&run.stderr)
     );
     Some(run.stdout)
+}
+
+/// A free TCP port on loopback (for a server a test starts).
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// The simulated three-pole site the site, NATS and browser tests share (cascade, seed 11),
+/// written under `out`.
+pub fn site_folder(out: &Path) -> PathBuf {
+    metamoran_sim::site::simulate_site(metamoran_sim::radar::RadarKind::Cascade, 11, out).unwrap()
+}
+
+/// One raw HTTP/1.1 request (`Connection: close` is added) to `addr` with `body`; the whole
+/// reply.
+pub fn http(addr: std::net::SocketAddr, head: &str, body: &str) -> String {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    write!(
+        s,
+        "{head}\r\nHost: {addr}\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut reply = String::new();
+    let _ = s.read_to_string(&mut reply);
+    reply
+}
+
+/// The status code of an HTTP reply.
+pub fn status_of(reply: &str) -> u16 {
+    reply
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0)
+}
+
+/// Posts a login form to the web view at `addr`; the reply.
+pub fn post_login(addr: std::net::SocketAddr, body: &str) -> String {
+    http(
+        addr,
+        "POST /login HTTP/1.1\r\nContent-Type: application/x-www-form-urlencoded",
+        body,
+    )
 }

@@ -6,7 +6,7 @@ mod commands;
 use clap::{Parser, Subcommand};
 use commands::{
     alerts, args::Locations, bench, calibrate, dca1000_emulate, demo, demo_capture, eval, inspect,
-    map, odometry, process, provision, record, simulate, site, summarize,
+    map, odometry, process, provision, record, serve, simulate, site, summarize,
 };
 use std::process::ExitCode;
 
@@ -33,6 +33,9 @@ enum Command {
     Demo(demo::Args),
     Alerts(alerts::Args),
     Site(site::Args),
+    Serve(serve::Args),
+    #[command(name = "hash-password")]
+    HashPassword(serve::HashArgs),
     #[command(name = "demo-capture")]
     DemoCapture(demo_capture::Args),
     Bench(bench::Args),
@@ -56,6 +59,8 @@ fn run(cli: &Cli) -> commands::Result {
         Command::Demo(a) => demo::run(a, at),
         Command::Alerts(a) => alerts::run(a),
         Command::Site(a) => site::run(a),
+        Command::Serve(a) => serve::run(a),
+        Command::HashPassword(a) => serve::hash(a),
         Command::DemoCapture(a) => demo_capture::run(a, at),
         Command::Bench(a) => bench::run(a, at),
         Command::Provision(a) => provision::run(a, at),

@@ -5,7 +5,7 @@
 
 use metamoran_operator::live::TrackRow;
 use metamoran_operator::site::{
-    SensorHealth, SensorTracks, Site, SiteAlert, SiteConfig, SiteFile, SiteTrack,
+    SensorHealth, SensorTracks, Site, SiteAlert, SiteConfig, SiteFile, SiteMessages, SiteTrack,
 };
 use metamoran_operator::tracking::{Detection, Tracker, TrackerConfig};
 use metamoran_process::{Mode, ProcessOptions, process};
@@ -129,11 +129,7 @@ pub fn sensor_tracks(bundle: &Path) -> Result<Vec<SensorTracks>, crate::Error> {
 /// A bad site file, or a sensor's bundle that cannot be processed.
 pub fn run(dir: &Path) -> Result<SiteReport, crate::Error> {
     let file = SiteFile::load(&dir.join("site.toml"))?;
-    let sensors: Vec<(String, Vec<SensorTracks>)> = file
-        .sensors
-        .iter()
-        .map(|s| Ok((s.id.clone(), sensor_tracks(&dir.join(&s.id))?)))
-        .collect::<Result<_, crate::Error>>()?;
+    let (sensors, _) = replay_messages(dir, &file)?;
     let frames = sensors.iter().map(|s| s.1.len()).max().unwrap_or(0);
     let mut site = Site::new(file, SiteConfig::default());
     let (mut tracks, mut alerts) = (Vec::with_capacity(frames), Vec::new());
@@ -159,4 +155,74 @@ pub fn run(dir: &Path) -> Result<SiteReport, crate::Error> {
             .map(|(id, h)| (id.to_owned(), h.clone()))
             .collect(),
     })
+}
+
+/// Each sensor's messages of the simulated site in `dir` (a bundle folder per sensor of
+/// `file`), and the frame period, for a real-time replay.
+///
+/// # Errors
+/// A sensor's bundle that cannot be processed.
+pub fn replay_messages(dir: &Path, file: &SiteFile) -> Result<(SiteMessages, f64), crate::Error> {
+    let sensors: SiteMessages = file
+        .sensors
+        .iter()
+        .map(|s| Ok((s.id.clone(), sensor_tracks(&dir.join(&s.id))?)))
+        .collect::<Result<_, crate::Error>>()?;
+    let period = file
+        .sensors
+        .first()
+        .and_then(|s| metamoran_bundle::Bundle::open(&dir.join(&s.id), Default::default()).ok())
+        .map_or(0.25, |b| b.scene.radar.frame_period_s);
+    Ok((sensors, period))
+}
+
+/// Plays the site in `dir` as its sensors would: each sensor's tracks and health published to
+/// the NATS server of `server(sensor)` at the bundles' frame rate, `laps` times over (0: until
+/// stopped), frame numbers and times going on across laps. The site process (`serve --nats`)
+/// fuses them.
+///
+/// # Errors
+/// A bad site file or bundle, or a server that refuses a sensor.
+pub fn publish_sensors(
+    dir: &Path,
+    server: &dyn Fn(&str, &str) -> Result<metamoran_operator::nats::NatsConfig, crate::Error>,
+    laps: u32,
+) -> Result<u64, crate::Error> {
+    let file = SiteFile::load(&dir.join("site.toml"))?;
+    let (sensors, period) = replay_messages(dir, &file)?;
+    let publishers: Vec<_> = sensors
+        .iter()
+        .map(|(id, _)| {
+            let config = server(&file.name, id)?;
+            Ok(metamoran_operator::nats::NatsPublisher::connect(&config)?)
+        })
+        .collect::<Result<_, crate::Error>>()?;
+    let frames = sensors.iter().map(|s| s.1.len()).max().unwrap_or(0);
+    let start = std::time::Instant::now();
+    let mut sent = 0u64;
+    for lap in (0..).take_while(|&l| laps == 0 || l < laps) {
+        for f in 0..frames {
+            let k = u64::from(lap) * frames as u64 + f as u64;
+            let due = start + std::time::Duration::from_secs_f64(k as f64 * period);
+            std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
+            for ((_, messages), p) in sensors.iter().zip(&publishers) {
+                let Some(m) = messages.get(f) else { continue };
+                let m = SensorTracks {
+                    frame: m.frame + lap * frames as u32,
+                    time_s: m.time_s + f64::from(lap) * frames as f64 * period,
+                    tracks: m.tracks.clone(),
+                };
+                p.publish("tracks", &serde_json::to_value(&m)?);
+                p.publish(
+                    "health",
+                    &serde_json::json!({ "frame": m.frame, "time_s": m.time_s }),
+                );
+                sent += 1;
+            }
+        }
+    }
+    for p in publishers {
+        p.close(metamoran_operator::nats::CLOSE_TIMEOUT)?;
+    }
+    Ok(sent)
 }

@@ -127,15 +127,19 @@ impl NatsConfig {
         })
     }
 
-    /// The alert stream, created when missing: every sensor's alerts of the site, on file,
-    /// kept 30 days, duplicates within 2 minutes dropped.
+    /// The alert stream, created when missing: every sensor's alerts of the site and the
+    /// operators' acknowledgements (`metamoran.<site>.operator.acks`), on file, kept 30 days,
+    /// duplicates within 2 minutes dropped.
     async fn alert_stream(
         &self,
         js: &jetstream::Context,
     ) -> Result<jetstream::stream::Stream, OperatorError> {
         js.get_or_create_stream(jetstream::stream::Config {
             name: self.stream(),
-            subjects: vec![format!("metamoran.{}.*.alerts", self.site)],
+            subjects: vec![
+                format!("metamoran.{}.*.alerts", self.site),
+                format!("metamoran.{}.*.acks", self.site),
+            ],
             storage: jetstream::stream::StorageType::File,
             max_age: Duration::from_secs(30 * 24 * 3600),
             duplicate_window: Duration::from_secs(120),
@@ -149,6 +153,20 @@ impl NatsConfig {
             ))
         })
     }
+}
+
+/// A client of `config`'s server named `name`, with the site's alert stream opened (created
+/// when missing): what the site's web view uses to subscribe and to record acknowledgements.
+///
+/// # Errors
+/// [`OperatorError::Nats`] as [`NatsPublisher::connect`].
+pub async fn connect_client(
+    config: &NatsConfig,
+    name: &str,
+) -> Result<async_nats::Client, OperatorError> {
+    let client = config.connect(name).await?;
+    config.alert_stream(&jetstream::new(client.clone())).await?;
+    Ok(client)
 }
 
 /// What a publisher did.
@@ -326,12 +344,13 @@ impl NatsPublisher {
     }
 }
 
-/// One alert as the stream holds it.
+/// One alert (or acknowledgement) as the stream holds it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct StoredAlert {
     /// Stream sequence number (1, 2, … in the order the server stored them).
     pub sequence: u64,
-    /// The sensor that published it (its subject's third token).
+    /// The sensor that published it (its subject's third token; `operator` for an
+    /// acknowledgement).
     pub sensor: String,
     /// The alert, JSON as published.
     pub json: String,

@@ -7,3 +7,4 @@ pub mod fft;
 pub mod m7;
 pub mod network;
 pub mod search;
+pub mod site;

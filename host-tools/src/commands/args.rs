@@ -356,14 +356,11 @@ pub fn password(file: Option<&Path>, env: &str, flag: &str) -> Result<String, me
 
 /// The NATS server of the site stream and how to log in.
 #[derive(clap::Args, Debug, Clone)]
-pub struct NatsArgs {
+pub struct NatsServerArgs {
     /// NATS server (nats://HOST:PORT, or tls://HOST:PORT with --nats-ca): tracks and health on
     /// core NATS, alerts into the site's JetStream stream, under metamoran.<site>.<sensor>.
     #[arg(long, value_name = "URL")]
     pub nats: Option<String>,
-    /// Site name (the subject level under metamoran.).
-    #[arg(long, default_value = "demo")]
-    pub site: String,
     /// NATS user; the password comes from METAMORAN_NATS_PASSWORD or --nats-password-file.
     #[arg(long, requires = "nats")]
     pub nats_user: Option<String>,
@@ -375,19 +372,20 @@ pub struct NatsArgs {
     pub nats_ca: Option<PathBuf>,
 }
 
-impl NatsArgs {
-    /// The server for sensor `sensor`, if `--nats` was given.
+impl NatsServerArgs {
+    /// The server for sensor `sensor` of site `site`, if `--nats` was given.
     ///
     /// # Errors
     /// A malformed URL, site or sensor, or a missing password.
     pub fn config(
         &self,
+        site: &str,
         sensor: &str,
     ) -> Result<Option<metamoran_operator::nats::NatsConfig>, metamoran::Error> {
         let Some(url) = &self.nats else {
             return Ok(None);
         };
-        let mut config = metamoran_operator::nats::NatsConfig::new(url, &self.site, sensor)?;
+        let mut config = metamoran_operator::nats::NatsConfig::new(url, site, sensor)?;
         config.ca.clone_from(&self.nats_ca);
         if let Some(user) = &self.nats_user {
             let password = password(
@@ -398,5 +396,29 @@ impl NatsArgs {
             config.login = Some(metamoran_operator::mqtt::MqttLogin::new(user, password));
         }
         Ok(Some(config))
+    }
+}
+
+/// The NATS server and the site name.
+#[derive(clap::Args, Debug, Clone)]
+pub struct NatsArgs {
+    /// The server and login.
+    #[command(flatten)]
+    pub server: NatsServerArgs,
+    /// Site name (the subject level under metamoran.).
+    #[arg(long, default_value = "demo")]
+    pub site: String,
+}
+
+impl NatsArgs {
+    /// The server for sensor `sensor`, if `--nats` was given.
+    ///
+    /// # Errors
+    /// As [`NatsServerArgs::config`].
+    pub fn config(
+        &self,
+        sensor: &str,
+    ) -> Result<Option<metamoran_operator::nats::NatsConfig>, metamoran::Error> {
+        self.server.config(&self.site, sensor)
     }
 }

@@ -59,6 +59,26 @@ enum What {
         #[arg(long)]
         json: bool,
     },
+    /// The site stream under load: N sensors' tracks (and an alert a second each) through one
+    /// nats-server (started here on loopback) to one site process; messages per second and the
+    /// frame → page latency against the frame period.
+    #[command(
+        after_help = "Example:\n  metamoran bench site --sensors 50 --rate-hz 10 --seconds 10"
+    )]
+    Site {
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// Simulated sensors.
+        #[arg(long, default_value_t = 50)]
+        sensors: usize,
+        /// Frames per second per sensor.
+        #[arg(long, default_value_t = 10.0)]
+        rate_hz: f64,
+        /// Seconds of publishing.
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f64,
+    },
     /// FFT instruction counts on the Cortex-M7 under QEMU (-icount), vs CMSIS-DSP's published counts.
     #[command(
         name = "fft-m7",
@@ -91,5 +111,11 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         What::Search { json } => super::print(&bench::search::run()?, *json),
         What::Dca1000 { json, mbytes } => super::print(&bench::dca1000::run(*mbytes)?, *json),
         What::Network { json } => super::print(&bench::network::run()?, *json),
+        What::Site {
+            json,
+            sensors,
+            rate_hz,
+            seconds,
+        } => super::print(&bench::site::run(*sensors, *rate_hz, *seconds)?, *json),
     }
 }

@@ -16,6 +16,7 @@ pub mod process;
 pub mod progress;
 pub mod provision;
 pub mod record;
+pub mod serve;
 pub mod simulate;
 pub mod site;
 pub mod summarize;

@@ -43,6 +43,9 @@ pub struct SensorTracks {
     pub tracks: Vec<TrackRow>,
 }
 
+/// Each sensor's id and its messages, frame by frame: a site's recording, or a replay.
+pub type SiteMessages = Vec<(String, Vec<SensorTracks>)>;
+
 /// The site fusion's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SiteConfig {
@@ -238,11 +241,7 @@ impl Site {
 
     /// Checks one message of `sensor`: the sensor's index and every track on the plan
     /// (position, velocity).
-    fn validate(
-        &self,
-        sensor: &str,
-        m: &SensorTracks,
-    ) -> Result<(usize, Vec<OnPlan>), SiteError> {
+    fn validate(&self, sensor: &str, m: &SensorTracks) -> Result<(usize, Vec<OnPlan>), SiteError> {
         let refuse = |field: String, problem: String| SiteError {
             sensor: sensor.to_owned(),
             field,

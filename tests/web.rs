@@ -1,0 +1,268 @@
+//! The operator's web view in a real browser (issue #20 part 4): Debian's headless Chromium
+//! driven through chromedriver (WebDriver, `fantoccini`) against `metamoran serve` replaying a
+//! simulated three-pole site. Log in, see the tracks move, receive an alert, acknowledge it,
+//! and find the zone and a track in the screenshot's pixels. Without the browser: the API
+//! refuses requests without a session, and the sixth failed login in a minute is refused.
+
+use fantoccini::{ClientBuilder, Locator};
+use metamoran_e2e::{free_port, http, oracles_required, post_login, site_folder, status_of};
+use metamoran_operator::site::SiteFile;
+use metamoran_web::login::{Users, hash_password};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const PASSWORD: &str = "operator-test-password-51d2";
+
+struct Driver(Child);
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Types `text` into the field with id `id`.
+async fn type_into(c: &fantoccini::Client, id: &str, text: &str) {
+    c.find(Locator::Id(id))
+        .await
+        .unwrap()
+        .send_keys(text)
+        .await
+        .unwrap();
+}
+
+/// Logs in on the page shown.
+async fn log_in(c: &fantoccini::Client, user: &str, password: &str) {
+    type_into(c, "user", user).await;
+    type_into(c, "password", password).await;
+    c.find(Locator::Id("submit"))
+        .await
+        .unwrap()
+        .click()
+        .await
+        .unwrap();
+}
+
+#[test]
+fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
+    let Some(driver_exe) = ["/usr/bin/chromedriver", "/usr/lib/chromium/chromedriver"]
+        .into_iter()
+        .find(|p| std::path::Path::new(p).exists())
+    else {
+        assert!(
+            !oracles_required(),
+            "chromium and chromium-driver are required (apt-get install -y chromium chromium-driver)"
+        );
+        eprintln!("SKIPPED: chromedriver not installed");
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let dir = site_folder(out.path());
+    let file = SiteFile::load(&dir.join("site.toml")).unwrap();
+    let (sensors, period_s) = metamoran::site::replay_messages(&dir, &file).unwrap();
+    let users = Users::parse(&format!("operator:{}", hash_password(PASSWORD).unwrap())).unwrap();
+    let server = metamoran_web::start(metamoran_web::ServeOptions {
+        site: file,
+        users,
+        feed: metamoran_web::replay_feed(sensors, period_s),
+        listen: "127.0.0.1:0".parse().unwrap(),
+        session_ttl: Duration::from_secs(600),
+        silence_s: 60.0,
+    })
+    .unwrap();
+    let addr = server.addr();
+
+    // Without a session the API and the event stream are refused.
+    for path in ["/api/state", "/api/plan", "/events"] {
+        let code = status_of(&http(addr, &format!("GET {path} HTTP/1.1"), ""));
+        assert_eq!(code, 401, "{path}");
+    }
+
+    let port = free_port();
+    let _driver = Driver(
+        Command::new(driver_exe)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(Instant::now() < deadline, "chromedriver did not start");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let profile = tempfile::tempdir().unwrap();
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let screenshot = runtime.block_on(async {
+        let mut caps = serde_json::Map::new();
+        caps.insert(
+            "goog:chromeOptions".into(),
+            serde_json::json!({
+                "binary": "/usr/bin/chromium",
+                "args": [
+                    "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                    "--disable-background-networking", "--disable-component-update",
+                    "--disable-sync", "--no-first-run", "--disable-quic", "--window-size=1400,900",
+                    format!("--user-data-dir={}", profile.path().display()),
+                ],
+            }),
+        );
+        let c = ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+            .capabilities(caps)
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+            .expect("a WebDriver session in headless Chromium");
+        c.goto(&format!("http://{addr}/")).await.unwrap();
+        // A wrong password is refused on the page.
+        log_in(&c, "operator", "wrong").await;
+        let page = c.source().await.unwrap();
+        assert!(page.contains("wrong user or password"), "{page}");
+        log_in(&c, "operator", PASSWORD).await;
+        // The plan: three sensors and the zone; then tracks.
+        c.wait()
+            .at_most(Duration::from_secs(20))
+            .for_element(Locator::Css("circle.track"))
+            .await
+            .expect("tracks on the plan");
+        assert_eq!(
+            c.find_all(Locator::Css("circle.sensor"))
+                .await
+                .unwrap()
+                .len(),
+            3
+        );
+        assert_eq!(
+            c.find_all(Locator::Css("polygon.zone"))
+                .await
+                .unwrap()
+                .len(),
+            1
+        );
+        let zone_label = c.find(Locator::Css("text.zone-label")).await.unwrap();
+        assert_eq!(zone_label.text().await.unwrap(), "yard");
+        // A track moves: the same id somewhere else a second and a half later.
+        let id = c
+            .execute(
+                "const e = document.querySelector('circle.track.person'); return e ? e.getAttribute('data-track') : null;",
+                vec![],
+            )
+            .await
+            .unwrap()
+            .as_str()
+            .expect("a person track")
+            .to_owned();
+        // The page redraws on every update, so an element can go stale between two reads:
+        // read again.
+        let at = |c: fantoccini::Client, id: String| async move {
+            for _ in 0..20 {
+                let read = async {
+                    let e = c
+                        .find(Locator::Css(&format!("circle.track[data-track='{id}']")))
+                        .await
+                        .ok()?;
+                    let x: f64 = e.attr("cx").await.ok()??.parse().ok()?;
+                    let y: f64 = e.attr("cy").await.ok()??.parse().ok()?;
+                    Some((x, y))
+                };
+                if let Some(p) = read.await {
+                    return Some(p);
+                }
+                tokio::time::sleep(Duration::from_millis(50)).await;
+            }
+            None
+        };
+        let p0 = at(c.clone(), id.clone()).await.unwrap();
+        tokio::time::sleep(Duration::from_millis(1500)).await;
+        if let Some(p1) = at(c.clone(), id.clone()).await {
+            let moved = (p1.0 - p0.0).hypot(p1.1 - p0.1);
+            assert!(moved > 0.5, "track {id} moved {moved} m");
+        }
+        // An alert arrives; the operator acknowledges it; the page says by whom. (A new alert
+        // redraws the list, so a click can meet a stale button: find it again.)
+        c.wait()
+            .at_most(Duration::from_secs(30))
+            .for_element(Locator::Css("#alerts li button.ack"))
+            .await
+            .expect("an alert to acknowledge");
+        let mut clicked = false;
+        for _ in 0..20 {
+            if let Ok(b) = c.find(Locator::Css("#alerts li button.ack")).await
+                && b.click().await.is_ok()
+            {
+                clicked = true;
+                break;
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+        assert!(clicked, "the acknowledge button could not be clicked");
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let text = loop {
+            let read = c
+                .execute(
+                    "const e = document.querySelector('#alerts li.acked'); return e ? e.textContent : null;",
+                    vec![],
+                )
+                .await
+                .unwrap();
+            if let Some(t) = read.as_str() {
+                break t.to_owned();
+            }
+            assert!(Instant::now() < deadline, "no alert was acknowledged");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        };
+        assert!(text.contains("acknowledged by operator"), "{text}");
+        assert!(text.contains("yard"), "{text}");
+        let shot = c.screenshot().await.unwrap();
+        c.close().await.unwrap();
+        shot
+    });
+    // The screenshot (PNG) shows the zone's border and a person track in their colours.
+    let decoder = png::Decoder::new(std::io::Cursor::new(&screenshot));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0u8; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let near = |px: &[u8], rgb: [u8; 3]| {
+        px.iter()
+            .zip(rgb)
+            .all(|(&a, b)| (i16::from(a) - i16::from(b)).abs() <= 40)
+    };
+    let (mut zone, mut person) = (0, 0);
+    for px in buf[..info.buffer_size()].chunks_exact(channels) {
+        zone += usize::from(near(px, [0xff, 0x52, 0x52]));
+        person += usize::from(near(px, [0x00, 0xe6, 0x76]));
+    }
+    assert!(zone > 100, "{zone} zone-border pixels");
+    assert!(person > 30, "{person} person-track pixels");
+    let keep = std::env::var_os("METAMORAN_SCREENSHOT").map_or_else(
+        || out.path().join("site-view.png"),
+        std::path::PathBuf::from,
+    );
+    std::fs::write(&keep, &screenshot).unwrap();
+    eprintln!(
+        "screenshot: {} ({zone} zone, {person} person pixels)",
+        keep.display()
+    );
+
+    // Logins are limited per address: after 5 failures in a minute the next is refused even
+    // with the right password. (The browser's two attempts above count too.)
+    let mut codes = Vec::new();
+    for _ in 0..5 {
+        codes.push(status_of(&post_login(addr, "user=operator&password=nope")));
+    }
+    codes.push(status_of(&post_login(
+        addr,
+        &format!("user=operator&password={PASSWORD}"),
+    )));
+    assert!(codes.contains(&401), "{codes:?}");
+    assert_eq!(codes.last(), Some(&429), "{codes:?}");
+    // A request body beyond the bound is refused.
+    let big = "x".repeat(metamoran_web::MAX_BODY_BYTES + 1);
+    assert_eq!(status_of(&post_login(addr, &big)), 413);
+    server.stop();
+}
