@@ -273,6 +273,24 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
     })
     .unwrap();
     let addr = web.addr();
+    // Bad input first: a malformed message from a known pole and one from a sensor the site
+    // does not have. Both are refused and counted; neither stops the site process.
+    for (sensor, body) in [
+        (
+            "pole-a",
+            serde_json::json!({ "frame": 0, "time_s": "soon" }),
+        ),
+        (
+            "intruder",
+            serde_json::json!({ "frame": 0, "time_s": 0.0, "tracks": [] }),
+        ),
+    ] {
+        let mut c = config(port, sensor, login("gate", SENSOR_PASSWORD));
+        c.site.clone_from(&site_name);
+        let p = NatsPublisher::connect(&c).unwrap();
+        p.publish("tracks", &body);
+        p.close(Duration::from_secs(5)).unwrap();
+    }
     // The poles, live: one lap of 40 frames at 4 Hz.
     let sent = metamoran::site::publish_sensors(
         &dir,
@@ -292,8 +310,10 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
         serde_json::from_str(&body).unwrap_or_else(|e| panic!("{e}: {body}"));
     for h in state["health"].as_array().unwrap() {
         assert_eq!(h["accepted"], 40, "{h}");
-        assert_eq!(h["rejected"], 0, "{h}");
+        let refused = if h["id"] == "pole-a" { 1 } else { 0 };
+        assert_eq!(h["rejected"], refused, "{h}");
     }
+    assert_eq!(state["unknown_messages"], 1, "{state}");
     let tracks = state["tracks"].as_array().unwrap();
     assert!((2..=4).contains(&tracks.len()), "{tracks:?}");
     // The site's alerts are in the stream, each with the sensors that saw the object; the two

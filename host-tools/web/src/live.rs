@@ -222,3 +222,63 @@ impl Live {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use metamoran_operator::site::{SiteConfig, SiteFile};
+    use std::time::Duration;
+
+    fn live() -> Live {
+        let file = SiteFile::parse(
+            "name = \"s\"\nextent = [[-10.0, -10.0], [10.0, 10.0]]\n\
+             [[sensor]]\nid = \"a\"\nposition = [0.0, 0.0]\nheading_deg = 0.0\n\
+             [[sensor]]\nid = \"b\"\nposition = [1.0, 0.0]\nheading_deg = 0.0\n\
+             [perimeter]\nrestricted_classes = [\"person\"]\n\
+             [[perimeter.zone]]\nname = \"z\"\npolygon = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]\n",
+        )
+        .unwrap();
+        Live::new(Site::new(file, SiteConfig::default()), 2.0)
+    }
+
+    #[test]
+    fn a_silent_sensor_raises_one_alert_until_it_is_heard_again() {
+        let mut l = live();
+        let t0 = l.started;
+        let m = |frame| SensorTracks {
+            frame,
+            time_s: f64::from(frame),
+            tracks: Vec::new(),
+        };
+        l.ingest("a", &m(0), t0 + Duration::from_secs(1));
+        assert!(!l.check_silence(t0 + Duration::from_millis(1500)));
+        // At 2.5 s, b has never been heard (2.5 s): silent; a was heard 1.5 s ago: not yet.
+        assert!(l.check_silence(t0 + Duration::from_millis(2500)));
+        let silent: Vec<_> = l
+            .alerts
+            .iter()
+            .map(|a| (a.kind.as_str(), a.sensors[0].as_str()))
+            .collect();
+        assert_eq!(silent, [("silent", "b")]);
+        // Once per silence: nothing new at 2.6 s for b; a goes silent at 3.1 s.
+        assert!(!l.check_silence(t0 + Duration::from_millis(2600)));
+        assert!(l.check_silence(t0 + Duration::from_millis(3100)));
+        assert_eq!(l.alerts.len(), 2);
+        // b is heard again, then silent again: a second alert for b.
+        l.ingest("b", &m(0), t0 + Duration::from_secs(4));
+        assert!(!l.check_silence(t0 + Duration::from_millis(5000)));
+        assert!(l.check_silence(t0 + Duration::from_millis(6500)));
+        assert_eq!(l.alerts.back().unwrap().sensors, ["b"]);
+        // An acknowledgement records who, once.
+        let id = l.alerts.back().unwrap().id;
+        assert_eq!(
+            l.acknowledge(id, "alice", 1.0).unwrap().acked.unwrap().by,
+            "alice"
+        );
+        assert_eq!(
+            l.acknowledge(id, "bob", 2.0).unwrap().acked.unwrap().by,
+            "alice"
+        );
+        assert!(l.acknowledge(999, "bob", 2.0).is_none());
+    }
+}
