@@ -1,7 +1,8 @@
 //! The operator's web view in a real browser (issue #20 part 4): Debian's headless Chromium
 //! driven through chromedriver (WebDriver, `fantoccini`) against `metamoran serve` replaying a
 //! simulated three-pole site. Log in, see the tracks move, receive an alert, acknowledge it,
-//! and find the zone and a track in the screenshot's pixels. Without the browser: the API
+//! select a track and get its range–azimuth map before and after SIC, and find the zone and a
+//! track in the screenshot's pixels. Without the browser: the API
 //! refuses requests without a session, and the sixth failed login in a minute is refused.
 
 use fantoccini::{ClientBuilder, Locator};
@@ -65,7 +66,7 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
     let server = metamoran_web::start(metamoran_web::ServeOptions {
         site: file,
         users,
-        feed: metamoran_web::replay_feed(sensors, period_s),
+        feed: metamoran_web::replay_feed(sensors, period_s, Some(dir.clone())),
         listen: "127.0.0.1:0".parse().unwrap(),
         session_ttl: Duration::from_secs(600),
         silence_s: 60.0,
@@ -217,6 +218,40 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
         };
         assert!(text.contains("acknowledged by operator"), "{text}");
         assert!(text.contains("yard"), "{text}");
+        // Selecting a track shows its range–azimuth map before and after SIC from a sensor's
+        // bundle (the inspection plot, 1400 × 700).
+        c.execute(
+            "const e = document.querySelector('circle.track.person'); e.dispatchEvent(new MouseEvent('click', { bubbles: true })); return e.getAttribute('data-track');",
+            vec![],
+        )
+        .await
+        .unwrap();
+        let deadline = Instant::now() + Duration::from_secs(60);
+        let width = loop {
+            let w = c
+                .execute(
+                    "const i = document.getElementById('track-plot'); return i.complete ? i.naturalWidth : 0;",
+                    vec![],
+                )
+                .await
+                .unwrap()
+                .as_u64()
+                .unwrap_or(0);
+            if w > 0 {
+                break w;
+            }
+            assert!(Instant::now() < deadline, "the track's plot never loaded");
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        };
+        assert_eq!(width, 1400);
+        let title = c
+            .find(Locator::Id("selected-title"))
+            .await
+            .unwrap()
+            .text()
+            .await
+            .unwrap();
+        assert!(title.contains("before and after SIC"), "{title}");
         let shot = c.screenshot().await.unwrap();
         c.close().await.unwrap();
         shot

@@ -103,21 +103,22 @@ pub fn sensor_tracks(bundle: &Path) -> Result<Vec<SensorTracks>, crate::Error> {
     let mut messages = Vec::with_capacity(out.frames.len());
     for result in &out.frames {
         let time_s = f64::from(result.frame) * period;
-        let detections: Vec<Detection> = result
+        let (instances, detections): (Vec<u16>, Vec<Detection>) = result
             .objects
             .iter()
-            .filter_map(Detection::from_estimate)
-            .collect();
+            .filter_map(|o| Detection::from_estimate(o).map(|d| (o.instance, d)))
+            .unzip();
         tracker
             .update(time_s, &detections)
             .map_err(|e| format!("{}: frame {}: {e}", bundle.display(), result.frame))?;
+        let row = |t: &metamoran_operator::tracking::Track| TrackRow {
+            instance: t.detection.and_then(|j| instances.get(j).copied()),
+            ..TrackRow::of(t, Vec::new())
+        };
         messages.push(SensorTracks {
             frame: result.frame,
             time_s,
-            tracks: tracker
-                .confirmed()
-                .map(|t| TrackRow::of(t, Vec::new()))
-                .collect(),
+            tracks: tracker.confirmed().map(row).collect(),
         });
     }
     Ok(messages)

@@ -34,6 +34,10 @@ pub struct TrackRow {
     pub velocity_mps: [f64; 2],
     /// Whether this frame gave it no detection (its position is a prediction).
     pub coasting: bool,
+    /// The camera instance of this frame's detection, when there was one (it names the
+    /// object in the sensor's results and inspection plots).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u16>,
     /// Zones it is in.
     pub zones: Vec<String>,
 }
@@ -50,6 +54,7 @@ impl TrackRow {
             position_m: track.position_m,
             velocity_mps: track.velocity_mps,
             coasting: track.detection.is_none(),
+            instance: None,
             zones,
         }
     }
@@ -355,6 +360,7 @@ mod tests {
                     position_m: [1.97, 37.07],
                     velocity_mps: [0.04, 0.0],
                     coasting: false,
+                    instance: Some(1),
                     zones: vec!["far lot".into()],
                 },
                 TrackRow {
@@ -366,6 +372,7 @@ mod tests {
                     position_m: [-1.74, 12.38],
                     velocity_mps: [1.4, 0.0],
                     coasting: true,
+                    instance: None,
                     zones: vec![],
                 },
             ],

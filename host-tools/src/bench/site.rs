@@ -101,6 +101,7 @@ fn row(id: u32, x: f64, z: f64) -> TrackRow {
         position_m: [x, z],
         velocity_mps: [1.4, 0.0],
         coasting: false,
+        instance: None,
         zones: Vec::new(),
     }
 }

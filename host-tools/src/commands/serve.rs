@@ -47,7 +47,7 @@ pub fn run(args: &Args) -> super::Result {
     let feed = match (&args.replay, args.nats.config(&site.name, "serve")?) {
         (Some(dir), _) => {
             let (sensors, period_s) = metamoran::site::replay_messages(dir, &site)?;
-            metamoran_web::replay_feed(sensors, period_s)
+            metamoran_web::replay_feed(sensors, period_s, Some(dir.clone()))
         }
         (None, Some(config)) => metamoran_web::Feed::Nats(config),
         (None, None) => return Err("metamoran serve: give --nats URL or --replay DIR".into()),

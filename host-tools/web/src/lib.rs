@@ -71,6 +71,8 @@ pub enum Feed {
         sensors: SiteMessages,
         /// Seconds per frame.
         period_s: f64,
+        /// The site folder with each sensor's bundle, for the selected track's plots.
+        bundles: Option<std::path::PathBuf>,
     },
 }
 
@@ -105,6 +107,8 @@ struct App {
     ttl: Duration,
     changed: tokio::sync::watch::Sender<u64>,
     acks: Option<(async_nats::jetstream::Context, String)>,
+    /// The replayed site's folder and frames per lap, for the selected track's plots.
+    bundles: Option<(std::path::PathBuf, u32)>,
 }
 
 type Shared = Arc<App>;
@@ -216,6 +220,17 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         users,
         ttl: session_ttl,
         changed,
+        bundles: match &feed {
+            Feed::Replay {
+                bundles: Some(dir),
+                sensors,
+                ..
+            } => Some((
+                dir.clone(),
+                sensors.iter().map(|s| s.1.len()).max().unwrap_or(1).max(1) as u32,
+            )),
+            _ => None,
+        },
         acks: nats.as_ref().map(|(client, config)| {
             (
                 async_nats::jetstream::new(client.clone()),
@@ -234,7 +249,12 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         problem: e.to_string(),
     })?;
     match (feed, nats) {
-        (Feed::Replay { sensors, period_s }, _) => {
+        (
+            Feed::Replay {
+                sensors, period_s, ..
+            },
+            _,
+        ) => {
             runtime.spawn(replay(app.clone(), sensors, period_s));
         }
         (Feed::Nats(_), Some((client, config))) => {
@@ -250,6 +270,7 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         .route("/api/plan", get(api_plan))
         .route("/api/state", get(api_state))
         .route("/api/ack", post(api_ack))
+        .route("/api/track/{id}/range-azimuth.png", get(track_plot))
         .route("/events", get(events))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(app);
@@ -527,8 +548,57 @@ async fn events(State(app): State<Shared>, headers: HeaderMap) -> Response {
 
 /// `serve`'s replay feed for a simulated site folder: each sensor's messages from
 /// `sensor_tracks` (the caller processes the bundles).
-pub fn replay_feed(sensors: SiteMessages, period_s: f64) -> Feed {
-    Feed::Replay { sensors, period_s }
+pub fn replay_feed(
+    sensors: SiteMessages,
+    period_s: f64,
+    bundles: Option<std::path::PathBuf>,
+) -> Feed {
+    Feed::Replay {
+        sensors,
+        period_s,
+        bundles,
+    }
+}
+
+/// The selected track's range–azimuth map before and after SIC (`metamoran inspect`'s plot) at
+/// the latest frame one of its sensors detected it, from that sensor's bundle.
+async fn track_plot(
+    State(app): State<Shared>,
+    headers: HeaderMap,
+    axum::extract::Path(id): axum::extract::Path<u32>,
+) -> Response {
+    if session_user(&app, &headers).is_none() {
+        return unauthorized();
+    }
+    let Some((dir, frames)) = app.bundles.clone() else {
+        return (
+            StatusCode::NOT_FOUND,
+            "plots need the sensors' bundles: serve --replay DIR",
+        )
+            .into_response();
+    };
+    let sources = lock(&app.live).site().sources(id);
+    let Some((sensor, frame, Some(instance))) = sources.into_iter().find(|s| s.2.is_some()) else {
+        return (StatusCode::NOT_FOUND, "no detection of that track to plot").into_response();
+    };
+    // The sensor id is one of the site file's (a checked subject token): a folder name.
+    let frame = frame % frames;
+    let plot = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, String> {
+        let out = tempfile::tempdir().map_err(|e| e.to_string())?;
+        metamoran_operator::inspect::run(&dir.join(&sensor), frame, out.path(), Default::default())
+            .map_err(|e| e.to_string())?;
+        std::fs::read(
+            out.path()
+                .join(format!("frame{frame}_obj{instance}_range_azimuth.png")),
+        )
+        .map_err(|e| e.to_string())
+    })
+    .await;
+    match plot {
+        Ok(Ok(png)) => ([(header::CONTENT_TYPE, "image/png")], png).into_response(),
+        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, e).into_response(),
+        Err(_) => StatusCode::INTERNAL_SERVER_ERROR.into_response(),
+    }
 }
 
 #[cfg(test)]

@@ -136,6 +136,9 @@ struct Member {
     position: [f64; 2],
     velocity: [f64; 2],
     time_s: f64,
+    /// The sensor's frame and camera instance of its latest detection.
+    frame: u32,
+    instance: Option<u16>,
 }
 
 #[derive(Clone, Debug)]
@@ -227,6 +230,21 @@ impl Site {
                 }
             })
             .collect()
+    }
+
+    /// Where site track `id` was last seen: each member's sensor, frame and camera instance
+    /// (the instance `None` where that frame's detection had none).
+    pub fn sources(&self, id: u32) -> Vec<(String, u32, Option<u16>)> {
+        self.tracks
+            .iter()
+            .find(|t| t.id == id)
+            .map(|t| {
+                t.members
+                    .iter()
+                    .map(|((k, _), m)| (self.file.sensors[*k].id.clone(), m.frame, m.instance))
+                    .collect()
+            })
+            .unwrap_or_default()
     }
 
     fn sensors_of(&self, t: &Fused) -> Vec<String> {
@@ -360,6 +378,8 @@ impl Site {
                 position,
                 velocity,
                 time_s: t,
+                frame: m.frame,
+                instance: row.instance,
             };
             if let Some(f) = self
                 .tracks
@@ -496,6 +516,7 @@ polygon = [[-4.0, 15.0], [4.0, 15.0], [4.0, 25.0], [-4.0, 25.0]]
             position_m: [x, z],
             velocity_mps: [0.0; 2],
             coasting: false,
+            instance: Some(9),
             zones: Vec::new(),
         }
     }
@@ -525,6 +546,13 @@ polygon = [[-4.0, 15.0], [4.0, 15.0], [4.0, 25.0], [-4.0, 25.0]]
         let tracks = s.tracks();
         assert_eq!(tracks.len(), 1, "{tracks:?}");
         assert_eq!(tracks[0].sensors, vec!["south", "north"]);
+        assert_eq!(
+            s.sources(tracks[0].id),
+            [
+                ("south".to_owned(), 0, Some(9)),
+                ("north".to_owned(), 0, Some(9))
+            ]
+        );
         // The mean of (1, 20) and (1.2, 19.9).
         assert!((tracks[0].position_m[0] - 1.1).abs() < 1e-9);
         assert!((tracks[0].position_m[1] - 19.95).abs() < 1e-9);
