@@ -5,7 +5,7 @@
 //! must leave the broker's last will, `offline`, retained.
 
 use metamoran::demo::{DemoEdge, DemoOptions, run};
-use metamoran_e2e::oracles_required;
+use metamoran_e2e::{oracles_required, wait_for_lines};
 use metamoran_operator::mqtt::{MqttConfig, MqttLogin, MqttTls, Publisher};
 use rumqttc::{Client, Event, MqttOptions, Packet, QoS};
 use std::process::{Child, Command, Stdio};
@@ -218,23 +218,6 @@ fn stop_broker(mut broker: Broker) {
             .success()
     );
     let _ = broker.0.wait();
-}
-
-/// Lines of `path` once it has at least `n`.
-fn wait_for_lines(path: &std::path::Path, n: usize) -> Vec<String> {
-    let deadline = Instant::now() + Duration::from_secs(60);
-    loop {
-        let text = std::fs::read_to_string(path).unwrap_or_default();
-        if text.lines().count() >= n {
-            return text.lines().map(String::from).collect();
-        }
-        assert!(
-            Instant::now() < deadline,
-            "{} never had {n} lines",
-            path.display()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
 }
 
 /// Issue #18, item 10: the broker goes down after the first alert and comes back after the

@@ -5,7 +5,7 @@
 //! or with a wrong password, are refused.
 
 use metamoran::demo::{DemoEdge, DemoOptions, run};
-use metamoran_e2e::{free_port, http, oracles_required, post_login, site_folder};
+use metamoran_e2e::{free_port, http, oracles_required, post_login, site_folder, wait_for_lines};
 use metamoran_operator::mqtt::MqttLogin;
 use metamoran_operator::nats::{NatsConfig, NatsPublisher, replay};
 use std::path::{Path, PathBuf};
@@ -82,27 +82,6 @@ fn config(port: u16, sensor: &str, who: Option<MqttLogin>) -> NatsConfig {
     let mut c = NatsConfig::new(&format!("nats://127.0.0.1:{port}"), "yard", sensor).unwrap();
     c.login = who;
     c
-}
-
-/// Waits until `path` has `n` lines; returns them.
-fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
-    let deadline = Instant::now() + Duration::from_secs(120);
-    loop {
-        let lines: Vec<String> = std::fs::read_to_string(path)
-            .unwrap_or_default()
-            .lines()
-            .map(String::from)
-            .collect();
-        if lines.len() >= n {
-            return lines;
-        }
-        assert!(
-            Instant::now() < deadline,
-            "{} never had {n} lines",
-            path.display()
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
 }
 
 #[test]

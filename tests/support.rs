@@ -126,3 +126,20 @@ pub fn post_login(addr: std::net::SocketAddr, body: &str) -> String {
         body,
     )
 }
+
+/// Waits (up to 2 minutes) until the file at `path` has `n` lines; returns its lines.
+pub fn wait_for_lines(path: &Path, n: usize) -> Vec<String> {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    loop {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        if text.lines().count() >= n {
+            return text.lines().map(String::from).collect();
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "{} never had {n} lines",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}

@@ -42,8 +42,9 @@ pub struct NatsConfig {
     pub ca: Option<PathBuf>,
 }
 
-/// Whether `name` is one subject token: ASCII letters, digits, `-` and `_`, at most 64.
-fn token(name: &str) -> bool {
+/// Whether `name` can be one subject token (a site or sensor id): ASCII letters, digits, `-`
+/// and `_`, 1 to 64 of them.
+pub fn is_token(name: &str) -> bool {
     !name.is_empty()
         && name.len() <= 64
         && name
@@ -72,7 +73,7 @@ impl NatsConfig {
             ));
         }
         for (what, name) in [("site", site), ("sensor", sensor)] {
-            if !token(name) {
+            if !is_token(name) {
                 return Err(bad(format!(
                     "{what} {name:?}: use 1–64 letters, digits, - or _ (it is a subject token)"
                 )));

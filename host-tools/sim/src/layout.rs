@@ -425,16 +425,10 @@ pub fn site_world(rng: &mut impl Rng) -> Layout {
         ("person", [8.0, y + 1.0], [-8.0, y + 6.0], 1.5),
         ("car", [-14.0, 33.0], [16.0, 33.0], 3.0),
     ];
-    let mut paths = Vec::new();
-    for (class, from, to, speed) in walks {
-        let shape = p.shape(class, from);
-        p.push(class, shape, [0.0; 2]);
-        paths.push(Path {
-            id: p.next_id() - 1,
-            waypoints: vec![from, to],
-            speed,
-        });
-    }
+    let paths = walks
+        .into_iter()
+        .map(|(class, from, to, speed)| p.walker(class, from, to, speed))
+        .collect();
     Layout {
         objects: p.objects,
         paths,
@@ -462,17 +456,14 @@ fn crossing(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64)
         ([6.0, z + 1.5], [-6.0, z + 4.5], 1.6),
         ([-9.0, car_z], [9.0, car_z], 2.5),
     ];
-    let mut paths = Vec::new();
-    for (k, (from, to, speed)) in walks.into_iter().enumerate() {
-        let class = if k < 2 { "person" } else { "car" };
-        let shape = p.shape(class, from);
-        p.push(class, shape, [0.0; 2]);
-        paths.push(Path {
-            id: p.next_id() - 1,
-            waypoints: vec![from, to],
-            speed,
-        });
-    }
+    let paths: Vec<Path> = walks
+        .iter()
+        .enumerate()
+        .map(|(k, &(from, to, speed))| {
+            let class = if k < 2 { "person" } else { "car" };
+            p.walker(class, from, to, speed)
+        })
+        .collect();
     // Nothing on or within 20 m behind the walks and the drive.
     for (from, to, _) in walks {
         for k in 0..=24 {
@@ -497,6 +488,17 @@ fn crossing(rng: &mut impl Rng, max_range: impl Fn(f64) -> f64) -> (Layout, f64)
 }
 
 impl<R: Rng> Placer<'_, R> {
+    /// A `class` object placed at `from` that walks straight to `to` at `speed` m/s.
+    fn walker(&mut self, class: &'static str, from: [f64; 2], to: [f64; 2], speed: f64) -> Path {
+        let shape = self.shape(class, from);
+        self.push(class, shape, [0.0; 2]);
+        Path {
+            id: self.next_id() - 1,
+            waypoints: vec![from, to],
+            speed,
+        }
+    }
+
     /// Keeps the line of sight to the object placed last clear of clutter.
     fn keep_clear_of_last(&mut self) {
         let o = self.objects.last().map(|o| (o.centre(), radius(&o.shape)));

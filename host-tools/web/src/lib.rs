@@ -344,16 +344,22 @@ async fn subscribe(app: Shared, client: async_nats::Client, config: NatsConfig) 
         let sensor = m.subject.split('.').nth(2).unwrap_or("").to_owned();
         let (version, alerts) = {
             let mut live = lock(&app.live);
-            let parsed = (m.payload.len() <= MAX_MESSAGE_BYTES)
-                .then(|| serde_json::from_slice::<SensorTracks>(&m.payload).ok())
-                .flatten()
-                // Oversized or undecodable: refused and counted like any invalid message.
-                .unwrap_or(SensorTracks {
-                    frame: 0,
-                    time_s: f64::NAN,
-                    tracks: Vec::new(),
-                });
-            let alerts = live.ingest(&sensor, &parsed, Instant::now());
+            let parsed = if m.payload.len() > MAX_MESSAGE_BYTES {
+                Err(format!(
+                    "{} bytes; at most {MAX_MESSAGE_BYTES}",
+                    m.payload.len()
+                ))
+            } else {
+                serde_json::from_slice::<SensorTracks>(&m.payload)
+                    .map_err(|e| format!("not a tracks message ({e})"))
+            };
+            let alerts = match parsed {
+                Ok(tracks) => live.ingest(&sensor, &tracks, Instant::now()),
+                Err(problem) => {
+                    live.refuse(&sensor, problem);
+                    Vec::new()
+                }
+            };
             (live.version, alerts)
         };
         // The site's own alerts (zones evaluated once, with the sensors that saw each object)
@@ -578,7 +584,7 @@ async fn track_plot(
             .into_response();
     };
     let sources = lock(&app.live).site().sources(id);
-    let Some((sensor, frame, Some(instance))) = sources.into_iter().find(|s| s.2.is_some()) else {
+    let Some((sensor, frame, instance)) = sources.into_iter().next() else {
         return (StatusCode::NOT_FOUND, "no detection of that track to plot").into_response();
     };
     // The sensor id is one of the site file's (a checked subject token): a folder name.

@@ -130,6 +130,16 @@ impl Live {
         alerts
     }
 
+    /// Counts a message of `sensor` that could not be read at all (`problem` in words).
+    pub fn refuse(&mut self, sensor: &str, problem: String) {
+        self.version += 1;
+        self.site.reject(&metamoran_operator::site::SiteError {
+            sensor: sensor.to_owned(),
+            field: "message".into(),
+            problem,
+        });
+    }
+
     /// Raises a `silent` alert for each sensor not heard from for `silence_s` (once per
     /// silence); whether any was raised.
     pub fn check_silence(&mut self, now: Instant) -> bool {

@@ -90,15 +90,6 @@ pub struct SiteFile {
     pub perimeter: Perimeter,
 }
 
-/// Whether `name` is one subject token.
-fn token(name: &str) -> bool {
-    !name.is_empty()
-        && name.len() <= 64
-        && name
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_')
-}
-
 impl SiteFile {
     /// Reads and checks a site file.
     ///
@@ -149,7 +140,7 @@ impl SiteFile {
     }
 
     fn check(&self) -> Result<(), String> {
-        if !token(&self.name) {
+        if !crate::nats::is_token(&self.name) {
             return Err(format!(
                 "name: {:?}: use 1–64 letters, digits, - or _ (it is a subject token)",
                 self.name
@@ -170,7 +161,7 @@ impl SiteFile {
         }
         for (i, s) in self.sensors.iter().enumerate() {
             let at = |field: &str| format!("sensor[{i}].{field} ({})", s.id);
-            if !token(&s.id) {
+            if !crate::nats::is_token(&s.id) {
                 return Err(format!(
                     "sensor[{i}].id: {:?}: use 1–64 letters, digits, - or _",
                     s.id

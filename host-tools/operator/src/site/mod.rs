@@ -136,9 +136,9 @@ struct Member {
     position: [f64; 2],
     velocity: [f64; 2],
     time_s: f64,
-    /// The sensor's frame and camera instance of its latest detection.
-    frame: u32,
-    instance: Option<u16>,
+    /// The sensor's frame and camera instance of the latest detection it took (kept while
+    /// the sensor track coasts).
+    detected: Option<(u32, u16)>,
 }
 
 #[derive(Clone, Debug)]
@@ -232,19 +232,22 @@ impl Site {
             .collect()
     }
 
-    /// Where site track `id` was last seen: each member's sensor, frame and camera instance
-    /// (the instance `None` where that frame's detection had none).
-    pub fn sources(&self, id: u32) -> Vec<(String, u32, Option<u16>)> {
-        self.tracks
+    /// Where site track `id` was last detected: for each member that took a detection, its
+    /// sensor, that frame and the detection's camera instance; the latest first.
+    pub fn sources(&self, id: u32) -> Vec<(String, u32, u16)> {
+        let mut out: Vec<(String, u32, u16)> = self
+            .tracks
             .iter()
             .find(|t| t.id == id)
-            .map(|t| {
-                t.members
-                    .iter()
-                    .map(|((k, _), m)| (self.file.sensors[*k].id.clone(), m.frame, m.instance))
-                    .collect()
+            .into_iter()
+            .flat_map(|t| t.members.iter())
+            .filter_map(|((k, _), m)| {
+                m.detected
+                    .map(|(frame, instance)| (self.file.sensors[*k].id.clone(), frame, instance))
             })
-            .unwrap_or_default()
+            .collect();
+        out.sort_by_key(|s| std::cmp::Reverse(s.1));
+        out
     }
 
     fn sensors_of(&self, t: &Fused) -> Vec<String> {
@@ -341,6 +344,18 @@ impl Site {
         Ok((k, out))
     }
 
+    /// Counts refusal `e` in its sensor's health (or as a message from an unknown sensor):
+    /// for messages refused before they could be read, as well as by [`Site::ingest`].
+    pub fn reject(&mut self, e: &SiteError) {
+        match self.file.sensors.iter().position(|s| s.id == e.sensor) {
+            Some(k) => {
+                self.health[k].rejected += 1;
+                self.health[k].last_problem = Some(e.to_string());
+            }
+            None => self.unknown += 1,
+        }
+    }
+
     /// Takes one message of `sensor` and returns the site alerts it raises.
     /// O(tracks × site tracks + site tracks × zones × vertices).
     ///
@@ -351,13 +366,7 @@ impl Site {
         let (k, placed) = match self.validate(sensor, m) {
             Ok(v) => v,
             Err(e) => {
-                match self.file.sensors.iter().position(|s| s.id == sensor) {
-                    Some(k) => {
-                        self.health[k].rejected += 1;
-                        self.health[k].last_problem = Some(e.to_string());
-                    }
-                    None => self.unknown += 1,
-                }
+                self.reject(&e);
                 return Err(e);
             }
         };
@@ -374,18 +383,20 @@ impl Site {
         }
         self.tracks.retain(|f| !f.members.is_empty());
         for (row, (position, velocity)) in m.tracks.iter().zip(placed) {
-            let member = Member {
+            let mut member = Member {
                 position,
                 velocity,
                 time_s: t,
-                frame: m.frame,
-                instance: row.instance,
+                detected: row.instance.map(|i| (m.frame, i)),
             };
             if let Some(f) = self
                 .tracks
                 .iter_mut()
                 .find(|f| f.members.contains_key(&(k, row.id)))
             {
+                if let Some(old) = f.members.get(&(k, row.id)) {
+                    member.detected = member.detected.or(old.detected);
+                }
                 f.members.insert((k, row.id), member);
                 continue;
             }
@@ -548,10 +559,7 @@ polygon = [[-4.0, 15.0], [4.0, 15.0], [4.0, 25.0], [-4.0, 25.0]]
         assert_eq!(tracks[0].sensors, vec!["south", "north"]);
         assert_eq!(
             s.sources(tracks[0].id),
-            [
-                ("south".to_owned(), 0, Some(9)),
-                ("north".to_owned(), 0, Some(9))
-            ]
+            [("south".to_owned(), 0, 9), ("north".to_owned(), 0, 9)]
         );
         // The mean of (1, 20) and (1.2, 19.9).
         assert!((tracks[0].position_m[0] - 1.1).abs() < 1e-9);
