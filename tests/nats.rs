@@ -5,7 +5,9 @@
 //! or with a wrong password, are refused.
 
 use metamoran::demo::{DemoEdge, DemoOptions, run};
-use metamoran_e2e::{free_port, http, oracles_required, post_login, site_folder, wait_for_lines};
+use metamoran_e2e::{
+    free_port, http, oracles_required, post_login, site_folder, status_of, wait_for_lines,
+};
 use metamoran_operator::mqtt::MqttLogin;
 use metamoran_operator::nats::{NatsConfig, NatsPublisher, replay};
 use std::path::{Path, PathBuf};
@@ -249,6 +251,8 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
         listen: "127.0.0.1:0".parse().unwrap(),
         session_ttl: Duration::from_secs(600),
         silence_s: 60.0,
+        // The poles' recordings, for the selected track's pictures.
+        bundles: Some(dir.clone()),
     })
     .unwrap();
     let addr = web.addr();
@@ -295,6 +299,23 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
     assert_eq!(state["unknown_messages"], 1, "{state}");
     let tracks = state["tracks"].as_array().unwrap();
     assert!((2..=4).contains(&tracks.len()), "{tracks:?}");
+    // Each live track's pictures are drawn from the pole's recording of the frame a pole last
+    // detected it in.
+    for picture in ["depth", "range-azimuth"] {
+        let path = format!("/api/track/{}/{picture}.png", tracks[0]["id"]);
+        let reply = http(
+            addr,
+            &format!("GET {path} HTTP/1.1\r\nCookie: {cookie}"),
+            "",
+        );
+        let head: String = reply.chars().take(300).collect();
+        assert_eq!(status_of(&reply), 200, "{path}: {head}");
+        assert!(reply.contains("content-type: image/png"), "{path}");
+        assert!(
+            reply.contains("\r\n\r\n\u{fffd}PNG\r\n"),
+            "{path}: not a PNG"
+        );
+    }
     // The site's alerts are in the stream, each with the sensors that saw the object; the two
     // people's entries into the yard were seen by two poles or more.
     let mut station = config(port, "station", login("station", STATION_PASSWORD));

@@ -104,9 +104,10 @@ pub fn http(addr: std::net::SocketAddr, head: &str, body: &str) -> String {
         body.len()
     )
     .unwrap();
-    let mut reply = String::new();
-    let _ = s.read_to_string(&mut reply);
-    reply
+    let mut reply = Vec::new();
+    let _ = s.read_to_end(&mut reply);
+    // A PNG body comes back with its non-UTF-8 bytes replaced; the head is ASCII.
+    String::from_utf8_lossy(&reply).into_owned()
 }
 
 /// The status code of an HTTP reply.

@@ -1,7 +1,7 @@
 //! The operator's web view in a real browser (issue #20 part 4): Debian's headless Chromium
 //! driven through chromedriver (WebDriver, `fantoccini`) against `metamoran serve` replaying a
 //! simulated three-pole site. Log in, see the tracks move, receive an alert, acknowledge it,
-//! select a track and get its range–azimuth map before and after SIC, and find the zone and a
+//! select a track and get its fused depth image and range–azimuth map before and after SIC, and find the zone and a
 //! track in the screenshot's pixels. Without the browser: the API
 //! refuses requests without a session, and the sixth failed login in a minute is refused.
 
@@ -66,10 +66,11 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
     let server = metamoran_web::start(metamoran_web::ServeOptions {
         site: file,
         users,
-        feed: metamoran_web::replay_feed(sensors, period_s, Some(dir.clone())),
+        feed: metamoran_web::replay_feed(sensors, period_s),
         listen: "127.0.0.1:0".parse().unwrap(),
         session_ttl: Duration::from_secs(600),
         silence_s: 60.0,
+        bundles: Some(dir.clone()),
     })
     .unwrap();
     let addr = server.addr();
@@ -121,8 +122,16 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
         c.goto(&format!("http://{addr}/")).await.unwrap();
         // A wrong password is refused on the page.
         log_in(&c, "operator", "wrong").await;
-        let page = c.source().await.unwrap();
-        assert!(page.contains("wrong user or password"), "{page}");
+        // The click returns before the answer page is there: wait for it.
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            let page = c.source().await.unwrap();
+            if page.contains("wrong user or password") {
+                break;
+            }
+            assert!(Instant::now() < deadline, "{page}");
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
         log_in(&c, "operator", PASSWORD).await;
         // The plan: three sensors and the zone; then tracks.
         c.wait()
@@ -244,14 +253,36 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
             tokio::time::sleep(Duration::from_millis(200)).await;
         };
         assert_eq!(width, 1400);
-        let title = c
-            .find(Locator::Id("selected-title"))
-            .await
-            .unwrap()
-            .text()
-            .await
-            .unwrap();
-        assert!(title.contains("before and after SIC"), "{title}");
+        // And the fused depth image of that frame (the camera's 640 × 360 with margins, a
+        // title and a scale), the track's object in colour: counted in the page's canvas.
+        let deadline = Instant::now() + Duration::from_secs(60);
+        let (width, coloured) = loop {
+            let read = c
+                .execute(
+                    "const i = document.getElementById('track-depth');
+                     if (!i.complete || i.naturalWidth === 0) return null;
+                     const c = document.createElement('canvas');
+                     c.width = i.naturalWidth; c.height = i.naturalHeight;
+                     const g = c.getContext('2d'); g.drawImage(i, 0, 0);
+                     const d = g.getImageData(16, 36, 640, 360).data;
+                     let n = 0;
+                     for (let k = 0; k < d.length; k += 4) {
+                       const hi = Math.max(d[k], d[k + 1], d[k + 2]), lo = Math.min(d[k], d[k + 1], d[k + 2]);
+                       if (hi - lo > 30) n++;
+                     }
+                     return [i.naturalWidth, n];",
+                    vec![],
+                )
+                .await
+                .unwrap();
+            if let Some([w, n]) = read.as_array().map(Vec::as_slice) {
+                break (w.as_u64().unwrap(), n.as_u64().unwrap());
+            }
+            assert!(Instant::now() < deadline, "the track's depth image never loaded");
+            tokio::time::sleep(Duration::from_millis(200)).await;
+        };
+        assert_eq!(width, 640 + 2 * 16);
+        assert!(coloured > 50, "{coloured} coloured pixels of the picked-out object");
         let shot = c.screenshot().await.unwrap();
         c.close().await.unwrap();
         shot

@@ -191,6 +191,7 @@ fn measure(
         listen: "127.0.0.1:0".parse().map_err(|e| format!("{e}"))?,
         session_ttl: Duration::from_secs(3600),
         silence_s: 3600.0,
+        bundles: None,
     })
     .map_err(|e| e.to_string())?;
     let addr = web.addr();

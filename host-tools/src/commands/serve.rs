@@ -10,7 +10,7 @@ use std::time::Duration;
 /// file); updates as server-sent events.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran hash-password < pw.txt | sed 's/^/alice:/' > users.txt\n  metamoran serve --site sites/site-1/site.toml --users users.txt --replay sites/site-1\n  metamoran serve --site site.toml --users users.txt --nats nats://127.0.0.1:4222 --listen 127.0.0.1:8080"
+    after_help = "Examples:\n  metamoran hash-password < pw.txt | sed 's/^/alice:/' > users.txt\n  metamoran serve --site sites/site-1/site.toml --users users.txt --replay sites/site-1\n  metamoran serve --site site.toml --users users.txt --nats nats://127.0.0.1:4222 --bundles site-1 --listen 127.0.0.1:8080"
 )]
 pub struct Args {
     /// The site file (sensors, plan, zones).
@@ -26,6 +26,10 @@ pub struct Args {
     /// then fed in real time, over and over) instead of subscribing to NATS.
     #[arg(long, value_name = "DIR", conflicts_with = "nats")]
     replay: Option<PathBuf>,
+    /// The folder with each sensor's bundle (`DIR/<sensor>/`), for the selected track's
+    /// range–azimuth map and fused depth image (`--replay DIR` implies it).
+    #[arg(long, value_name = "DIR", conflicts_with = "replay")]
+    bundles: Option<PathBuf>,
     /// The NATS server the sensors publish their tracks to (the site name is the site file's).
     #[command(flatten)]
     nats: NatsServerArgs,
@@ -47,7 +51,7 @@ pub fn run(args: &Args) -> super::Result {
     let feed = match (&args.replay, args.nats.config(&site.name, "serve")?) {
         (Some(dir), _) => {
             let (sensors, period_s) = metamoran::site::replay_messages(dir, &site)?;
-            metamoran_web::replay_feed(sensors, period_s, Some(dir.clone()))
+            metamoran_web::replay_feed(sensors, period_s)
         }
         (None, Some(config)) => metamoran_web::Feed::Nats(config),
         (None, None) => return Err("metamoran serve: give --nats URL or --replay DIR".into()),
@@ -59,6 +63,7 @@ pub fn run(args: &Args) -> super::Result {
         listen: args.listen,
         session_ttl: Duration::from_secs(args.session_minutes.max(1) * 60),
         silence_s: args.silence_s,
+        bundles: args.replay.clone().or_else(|| args.bundles.clone()),
     })
     .map_err(|e| e.to_string())?;
     // Scripts read this line for the address (port 0 picks a free one).

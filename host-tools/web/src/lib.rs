@@ -19,6 +19,7 @@
 
 pub mod live;
 pub mod login;
+mod pictures;
 
 use axum::extract::{ConnectInfo, DefaultBodyLimit, Form, State};
 use axum::http::{HeaderMap, StatusCode, header};
@@ -71,8 +72,6 @@ pub enum Feed {
         sensors: SiteMessages,
         /// Seconds per frame.
         period_s: f64,
-        /// The site folder with each sensor's bundle, for the selected track's plots.
-        bundles: Option<std::path::PathBuf>,
     },
 }
 
@@ -91,6 +90,9 @@ pub struct ServeOptions {
     pub session_ttl: Duration,
     /// Seconds without a message after which a sensor raises a `silent` alert.
     pub silence_s: f64,
+    /// The folder with each sensor's bundle (`DIR/<sensor>/`), for the selected track's
+    /// pictures; without it the page shows none.
+    pub bundles: Option<std::path::PathBuf>,
 }
 
 /// Largest request body, bytes (a login form or an acknowledgement).
@@ -107,8 +109,8 @@ struct App {
     ttl: Duration,
     changed: tokio::sync::watch::Sender<u64>,
     acks: Option<(async_nats::jetstream::Context, String)>,
-    /// The replayed site's folder and frames per lap, for the selected track's plots.
-    bundles: Option<(std::path::PathBuf, u32)>,
+    /// The sensors' bundles, for the selected track's pictures.
+    bundles: Option<pictures::Bundles>,
 }
 
 type Shared = Arc<App>;
@@ -201,6 +203,7 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         listen,
         session_ttl,
         silence_s,
+        bundles,
     } = options;
     let (changed, _) = tokio::sync::watch::channel(0u64);
     let nats = match &feed {
@@ -220,17 +223,7 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         users,
         ttl: session_ttl,
         changed,
-        bundles: match &feed {
-            Feed::Replay {
-                bundles: Some(dir),
-                sensors,
-                ..
-            } => Some((
-                dir.clone(),
-                sensors.iter().map(|s| s.1.len()).max().unwrap_or(1).max(1) as u32,
-            )),
-            _ => None,
-        },
+        bundles: bundles.map(pictures::Bundles::new),
         acks: nats.as_ref().map(|(client, config)| {
             (
                 async_nats::jetstream::new(client.clone()),
@@ -270,7 +263,7 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         .route("/api/plan", get(api_plan))
         .route("/api/state", get(api_state))
         .route("/api/ack", post(api_ack))
-        .route("/api/track/{id}/range-azimuth.png", get(track_plot))
+        .route("/api/track/{id}/{picture}", get(pictures::track_picture))
         .route("/events", get(events))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(app);
@@ -554,57 +547,8 @@ async fn events(State(app): State<Shared>, headers: HeaderMap) -> Response {
 
 /// `serve`'s replay feed for a simulated site folder: each sensor's messages from
 /// `sensor_tracks` (the caller processes the bundles).
-pub fn replay_feed(
-    sensors: SiteMessages,
-    period_s: f64,
-    bundles: Option<std::path::PathBuf>,
-) -> Feed {
-    Feed::Replay {
-        sensors,
-        period_s,
-        bundles,
-    }
-}
-
-/// The selected track's range–azimuth map before and after SIC (`metamoran inspect`'s plot) at
-/// the latest frame one of its sensors detected it, from that sensor's bundle.
-async fn track_plot(
-    State(app): State<Shared>,
-    headers: HeaderMap,
-    axum::extract::Path(id): axum::extract::Path<u32>,
-) -> Response {
-    if session_user(&app, &headers).is_none() {
-        return unauthorized();
-    }
-    let Some((dir, frames)) = app.bundles.clone() else {
-        return (
-            StatusCode::NOT_FOUND,
-            "plots need the sensors' bundles: serve --replay DIR",
-        )
-            .into_response();
-    };
-    let sources = lock(&app.live).site().sources(id);
-    let Some((sensor, frame, instance)) = sources.into_iter().next() else {
-        return (StatusCode::NOT_FOUND, "no detection of that track to plot").into_response();
-    };
-    // The sensor id is one of the site file's (a checked subject token): a folder name.
-    let frame = frame % frames;
-    let plot = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, String> {
-        let out = tempfile::tempdir().map_err(|e| e.to_string())?;
-        metamoran_operator::inspect::run(&dir.join(&sensor), frame, out.path(), Default::default())
-            .map_err(|e| e.to_string())?;
-        std::fs::read(
-            out.path()
-                .join(format!("frame{frame}_obj{instance}_range_azimuth.png")),
-        )
-        .map_err(|e| e.to_string())
-    })
-    .await;
-    match plot {
-        Ok(Ok(png)) => ([(header::CONTENT_TYPE, "image/png")], png).into_response(),
-        Ok(Err(e)) => (StatusCode::INTERNAL_SERVER_ERROR, e).into_response(),
-        Err(_) => StatusCode::INTERNAL_SERVER_ERROR.into_response(),
-    }
+pub fn replay_feed(sensors: SiteMessages, period_s: f64) -> Feed {
+    Feed::Replay { sensors, period_s }
 }
 
 #[cfg(test)]
