@@ -1,18 +1,27 @@
 //! The directions present in one range–Doppler cell: peaks of a zero-padded FFT over the base
 //! row give azimuths (two walls at the same range and radial velocity, left and right, are two
-//! peaks); at each, beams of the elevated channels and of the base channels at the same azimuth
-//! positions differ in phase by `π · e · sin φ`, which gives the elevation `φ`.
+//! peaks). At each azimuth the elevation comes from the rows above the base row:
+//! - one elevated row (the xWR1843's raised TX): its beam and the base channels' beam at the
+//!   same azimuth positions differ in phase by `π · e · sin φ`, which gives `φ`;
+//! - two or more (a 4D imaging array): each row's beam over the azimuth positions all rows
+//!   share, steered to the azimuth, is one element of an elevation aperture, beamformed on a
+//!   grid of [`ELEVATION_GRID`] sines over the unambiguous range; up to
+//!   [`ELEVATIONS_PER_AZIMUTH`] peaks (the ground and a wall in the same cell) are directions.
 //!
 //! Phase convention (bundle.md, extended): channel `(p, e)` sees `exp(jπ(p·sin θ + e·sin φ))`
 //! for azimuth θ (positive right) and elevation φ (positive up).
 
-use super::geometry::{AZIMUTH_FFT, ArrayGeometry};
+use super::geometry::{AZIMUTH_FFT, ArrayGeometry, MAX_ROWS};
 use crate::detect::quadratic_offset;
 use crate::fft::{Complex32, cfft_f32};
 use libm::{asinf, atan2f, log10f, sincosf};
 
-/// Most directions reported per cell.
+/// Most azimuths reported per cell.
 pub const MAX_DIRECTIONS: usize = 4;
+/// Most elevations reported per azimuth (arrays with two or more elevated rows).
+pub const ELEVATIONS_PER_AZIMUTH: usize = 2;
+/// Points of the elevation beamformer's grid over `|sin φ| < 1 / row spacing`.
+pub const ELEVATION_GRID: usize = 64;
 
 /// One direction in a cell.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -53,9 +62,75 @@ pub fn steered_power_db(values: &[Complex32], geom: &ArrayGeometry, s: f32) -> f
     db(beam(values, geom, s, |c| geom.elevation(c) == 0))
 }
 
+/// Elevation peaks at azimuth `sin θ = s` from an array with two or more elevated rows: each
+/// row's beam over the shared columns steered to `s`, then beamformed over the rows on
+/// [`ELEVATION_GRID`] sines spanning the unambiguous `±1 / spacing` (the spectrum is periodic
+/// there). Peaks within `floor_db` of the strongest, strongest first, as (elevation rad, dB
+/// relative to the strongest). O(channels + rows · grid).
+fn elevation_peaks(
+    values: &[Complex32],
+    geom: &ArrayGeometry,
+    s: f32,
+    floor_db: f32,
+) -> heapless::Vec<(f32, f32), ELEVATIONS_PER_AZIMUTH> {
+    let rows = geom.rows();
+    let spacing = f32::from(geom.row_spacing().max(1));
+    let mut beams = [Complex32::new(0.0, 0.0); MAX_ROWS];
+    for (b, &e) in beams.iter_mut().zip(rows) {
+        *b = beam(values, geom, s, |c| {
+            geom.elevation(c) == e && geom.shared(geom.azimuth(c))
+        });
+    }
+    // Grid point g is sin φ = (g − G/2) · step; each row's steering phase advances by a fixed
+    // rotation from one point to the next.
+    let step = 2.0 / (spacing * ELEVATION_GRID as f32);
+    let half = (ELEVATION_GRID / 2) as f32;
+    let mut phasor = [Complex32::new(0.0, 0.0); MAX_ROWS];
+    let mut turn = [Complex32::new(0.0, 0.0); MAX_ROWS];
+    for (r, &e) in rows.iter().enumerate() {
+        let (si, co) = sincosf(core::f32::consts::PI * f32::from(e) * half * step);
+        phasor[r] = Complex32::new(co, si);
+        let (si, co) = sincosf(-core::f32::consts::PI * f32::from(e) * step);
+        turn[r] = Complex32::new(co, si);
+    }
+    let mut spectrum = [0.0f32; ELEVATION_GRID];
+    for p in &mut spectrum {
+        let mut acc = Complex32::new(0.0, 0.0);
+        for r in 0..rows.len() {
+            let (b, w) = (beams[r], phasor[r]);
+            acc.re += b.re * w.re - b.im * w.im;
+            acc.im += b.re * w.im + b.im * w.re;
+            let t = turn[r];
+            phasor[r] = Complex32::new(w.re * t.re - w.im * t.im, w.re * t.im + w.im * t.re);
+        }
+        *p = db(acc);
+    }
+    let top = spectrum.iter().copied().fold(f32::MIN, f32::max);
+    let at = |g: usize| spectrum[g % ELEVATION_GRID];
+    let mut peaks: heapless::Vec<usize, ELEVATION_GRID> = heapless::Vec::new();
+    for (g, &here) in spectrum.iter().enumerate() {
+        let (l, r) = (at(g + ELEVATION_GRID - 1), at(g + 1));
+        if here >= l && here > r && here >= top - floor_db {
+            let _ = peaks.push(g);
+        }
+    }
+    peaks.sort_unstable_by(|&a, &b| spectrum[b].total_cmp(&spectrum[a]));
+    peaks
+        .iter()
+        .take(ELEVATIONS_PER_AZIMUTH)
+        .map(|&g| {
+            let off = quadratic_offset(at(g + ELEVATION_GRID - 1), spectrum[g], at(g + 1));
+            let t = (g as f32 + off - half) * step;
+            (asinf(t.clamp(-1.0, 1.0)), spectrum[g] - top)
+        })
+        .collect()
+}
+
 /// Calls `emit` for each direction in the cell with channel values `values` (one per virtual
 /// channel): azimuth peaks within `floor_db` of the strongest, strongest first, at most
-/// [`MAX_DIRECTIONS`]. Returns how many. O(channels + L log L) plus O(channels) per direction.
+/// [`MAX_DIRECTIONS`], each with its elevation (or, on an array of several elevated rows, its
+/// elevation peaks within `floor_db`, at most [`ELEVATIONS_PER_AZIMUTH`]). Returns how many.
+/// O(channels + L log L) plus O(channels + rows · [`ELEVATION_GRID`]) per azimuth.
 pub fn cell_directions(
     values: &[Complex32],
     geom: &ArrayGeometry,
@@ -115,6 +190,18 @@ pub fn cell_directions(
         if !(-1.0..=1.0).contains(&s) {
             continue;
         }
+        let direction = |elevation: f32, below_db: f32| Direction {
+            azimuth: asinf(s),
+            elevation,
+            power_db: mags[k] + below_db,
+        };
+        if geom.rows().len() > 2 {
+            for (elevation, below_db) in elevation_peaks(values, geom, s, floor_db) {
+                emit(direction(elevation, below_db));
+                emitted += 1;
+            }
+            continue;
+        }
         let elevation = match elevated {
             Some(e) => {
                 let up = beam(values, geom, s, |c| geom.elevation(c) == e);
@@ -132,11 +219,7 @@ pub fn cell_directions(
             }
             None => 0.0,
         };
-        emit(Direction {
-            azimuth: asinf(s),
-            elevation,
-            power_db: mags[k],
-        });
+        emit(direction(elevation, 0.0));
         emitted += 1;
     }
     emitted
@@ -188,6 +271,66 @@ mod tests {
                 "{el} {got:?}"
             );
         }
+    }
+
+    /// A T-shaped 12 × 16 imaging array: four TX fill a 64-element azimuth row, eight more at
+    /// azimuth 24 raised 3, 6, …, 24 half-wavelengths.
+    fn imaging() -> ArrayGeometry {
+        let mut c = example();
+        c.tx_positions =
+            heapless::Vec::from_slice(&[0, 16, 32, 48, 24, 24, 24, 24, 24, 24, 24, 24]).unwrap();
+        c.rx_positions = (0..16).collect();
+        c.tx_order = (0..12).collect();
+        ArrayGeometry::new(&c, &[0, 0, 0, 0, 3, 6, 9, 12, 15, 18, 21, 24], &[]).unwrap()
+    }
+
+    #[test]
+    fn an_imaging_array_has_nine_rows_over_sixteen_shared_columns() {
+        let g = imaging();
+        assert_eq!(g.channels(), 192);
+        assert_eq!(g.rows(), [0, 3, 6, 9, 12, 15, 18, 21, 24]);
+        assert_eq!(g.row_spacing(), 3);
+        let shared: std::vec::Vec<usize> = (0..AZIMUTH_FFT).filter(|&p| g.shared(p)).collect();
+        assert_eq!(shared, (24..40).collect::<std::vec::Vec<_>>());
+        assert_eq!(geometry().row_spacing(), 1);
+    }
+
+    #[test]
+    fn an_imaging_array_beamforms_its_elevation_rows() {
+        let g = imaging();
+        // Within the unambiguous ±19.5°, on and off grid points.
+        for &(az, el) in &[(0.0f64, 0.0f64), (0.3, 0.1), (-0.5, -0.25), (0.6, 0.31)] {
+            let mut got = std::vec::Vec::new();
+            cell_directions(&values(&g, &[(az, el, 1.0)]), &g, 6.0, |d| got.push(d));
+            assert_eq!(got.len(), 1, "{az} {el}: {got:?}");
+            // The 64-point FFT of a 64-element row is not zero-padded: quadratic
+            // interpolation is within a third of the 1.8° beam.
+            assert!(
+                (f64::from(got[0].azimuth) - az).abs() < 0.01,
+                "{az} {got:?}"
+            );
+            assert!(
+                (f64::from(got[0].elevation) - el).abs() < 0.006,
+                "{el} {got:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_ground_and_a_wall_in_one_cell_are_two_elevations() {
+        let g = imaging();
+        // Same azimuth, 14° apart in elevation (the beam is 4.2° wide), the wall 2 dB weaker.
+        let v = values(&g, &[(0.4, -0.17, 1.0), (0.4, 0.08, 0.8)]);
+        let mut got = std::vec::Vec::new();
+        assert_eq!(cell_directions(&v, &g, 6.0, |d| got.push(d)), 2);
+        assert!((f64::from(got[0].elevation) + 0.17).abs() < 0.01, "{got:?}");
+        assert!((f64::from(got[1].elevation) - 0.08).abs() < 0.01, "{got:?}");
+        assert!(
+            got.iter()
+                .all(|d| (f64::from(d.azimuth) - 0.4).abs() < 0.01)
+        );
+        let below = got[0].power_db - got[1].power_db;
+        assert!((below - 1.94).abs() < 0.5, "{below} dB");
     }
 
     #[test]

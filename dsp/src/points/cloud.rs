@@ -35,6 +35,13 @@ pub struct CloudOptions {
     /// dynamic range, below which CFAR only finds the range and Doppler side lobes of strong
     /// reflectors (the local noise estimate there is itself side lobes).
     pub dynamic_range_db: f32,
+    /// The radar's velocity `[v_x, v_z]` (m/s, radar frame) expected this frame, for a board
+    /// whose unambiguous velocity a static world can exceed (a 4D imaging board's twelve TX
+    /// slots give ±5 m/s). Each direction's radial velocity is then unfolded to the alias
+    /// nearest a static point's at that velocity, and its channels are compensated for the
+    /// unfolded Doppler's TDM phase before its azimuth and elevation are found. `None`: as
+    /// measured, within ±[`RadarConfig::max_velocity`].
+    pub velocity_prior: Option<[f32; 2]>,
 }
 
 /// One point of the cloud.
@@ -176,34 +183,72 @@ pub fn frame_points(
             let spectra: &[Complex32] = spectra;
             let slots = config.slots() as f32;
             let rx = config.rx_count();
-            // Channel values of Doppler bin `k`, TDM-MIMO Doppler phase removed.
-            let cell_at = |k: usize, out: &mut [Complex32]| {
-                compensated_cell(spectra, (nd, rx, slots), k, out);
+            // Channel values of Doppler bin `k` unfolded by `alias` periods, TDM-MIMO Doppler
+            // phase removed.
+            let cell_at = |k: usize, alias: i32, out: &mut [Complex32]| {
+                compensated_cell(spectra, (nd, rx, slots), (k, alias), out);
             };
-            cell_at(d, &mut values[..channels]);
             // The direction's power in Doppler bin `k`.
-            let power = |k: usize, s: f32| {
+            let power = |k: usize, alias: i32, s: f32| {
                 let mut cell = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
-                cell_at(k, &mut cell[..channels]);
+                cell_at(k, alias, &mut cell[..channels]);
                 steered_power_db(&cell[..channels], geom, s)
             };
-            count += cell_directions(
+            // A direction's measured radial velocity (its own Doppler peak near `d`), and the
+            // aliases to add to reach the prior's static point in that direction.
+            let span = config.doppler_to_velocity(nd as f32, nd);
+            let measure = |dir: &Direction, alias: i32| {
+                let s = sinf(dir.azimuth);
+                let (k, off) = doppler_peak(|k| power(k, alias, s), d + nd);
+                let k = k % nd;
+                let signed = if k >= nd / 2 {
+                    k as f32 - nd as f32
+                } else {
+                    k as f32
+                };
+                let folded = config.doppler_to_velocity(signed + off, nd);
+                let wanted = options.velocity_prior.map_or(0, |v| {
+                    let static_vr = -(sinf(dir.azimuth) * v[0] + cosf(dir.azimuth) * v[1]);
+                    libm::roundf((static_vr - folded) / span) as i32
+                });
+                (folded, wanted)
+            };
+            cell_at(d, 0, &mut values[..channels]);
+            // First as measured; a direction whose prior asks for another alias is found again
+            // in the cell compensated for it.
+            let mut others: heapless::Vec<
+                i32,
+                { super::angles::MAX_DIRECTIONS * super::angles::ELEVATIONS_PER_AZIMUTH },
+            > = heapless::Vec::new();
+            cell_directions(
                 &values[..channels],
                 geom,
                 options.direction_floor_db,
                 |dir| {
-                    let s = sinf(dir.azimuth);
-                    let (k, off) = doppler_peak(|k| power(k, s), d + nd);
-                    let k = k % nd;
-                    let signed = if k >= nd / 2 {
-                        k as f32 - nd as f32
-                    } else {
-                        k as f32
-                    };
-                    let velocity = config.doppler_to_velocity(signed + off, nd);
-                    emit(RadarPoint::new(range, velocity, dir));
+                    let (folded, wanted) = measure(&dir, 0);
+                    if wanted == 0 {
+                        emit(RadarPoint::new(range, folded, dir));
+                        count += 1;
+                    } else if !others.contains(&wanted) {
+                        let _ = others.push(wanted);
+                    }
                 },
             );
+            for &alias in &others {
+                cell_at(d, alias, &mut values[..channels]);
+                cell_directions(
+                    &values[..channels],
+                    geom,
+                    options.direction_floor_db,
+                    |dir| {
+                        let (folded, wanted) = measure(&dir, alias);
+                        if wanted == alias {
+                            emit(RadarPoint::new(range, folded + alias as f32 * span, dir));
+                            count += 1;
+                        }
+                    },
+                );
+            }
         })
         .map_err(PointsError::Cfar)?;
     match failed {
@@ -249,12 +294,13 @@ fn doppler_spectra(
 }
 
 /// Channel values of Doppler bin `k` (wrapping) into `out`, with the TDM-MIMO phase of the
-/// Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target at Doppler
-/// bin `k` has advanced `2π·k·s / (nd·slots)` there.
+/// Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target at signed
+/// Doppler bin `b` (the measured bin plus `alias` periods of `nd`) has advanced
+/// `2π·b·s / (nd·slots)` there.
 fn compensated_cell(
     spectra: &[Complex32],
     (nd, rx, slots): (usize, usize, f32),
-    k: usize,
+    (k, alias): (usize, i32),
     out: &mut [Complex32],
 ) {
     let k = k % nd;
@@ -262,7 +308,7 @@ fn compensated_cell(
         k as f32 - nd as f32
     } else {
         k as f32
-    };
+    } + alias as f32 * nd as f32;
     for (ch, o) in out.iter_mut().enumerate() {
         let slot = (ch / rx) as f32;
         let phi = -core::f32::consts::TAU * signed * slot / (nd as f32 * slots);

@@ -2,8 +2,10 @@
 //!
 //! Channel `slot · rx_count + rx` sits at azimuth `tx_positions[tx] + rx_positions[rx]` and
 //! elevation `tx_elevation[tx] + rx_elevation[rx]` (`tx = tx_order[slot]`). Channels at
-//! elevation 0 form the base row for the azimuth FFT; channels of another elevation give the
-//! elevation by their phase against the base channels at the same azimuth positions.
+//! elevation 0 form the base row for the azimuth FFT. With one other elevation, its channels
+//! give the elevation by their phase against the base channels at the same azimuth positions;
+//! with two or more, the rows at the azimuth positions they all share form an elevation
+//! aperture that is beamformed ([`ArrayGeometry::rows`]).
 
 use crate::array::MAX_CHANNELS;
 use crate::config::RadarConfig;
@@ -11,6 +13,9 @@ use core::fmt;
 
 /// Longest azimuth aperture (half-wavelengths) the point cloud handles: the FFT length.
 pub const AZIMUTH_FFT: usize = 64;
+
+/// Most distinct elevations (rows, the base row included) an array may have.
+pub const MAX_ROWS: usize = 16;
 
 /// Why an array cannot give a point cloud.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,6 +35,10 @@ pub enum GeometryError {
     Aperture(i32),
     /// No channel at elevation 0.
     NoBaseRow,
+    /// More distinct elevations than [`MAX_ROWS`].
+    TooManyRows(usize),
+    /// Three or more rows with no azimuth position in common: no elevation aperture.
+    NoCommonColumn,
 }
 
 impl core::error::Error for GeometryError {}
@@ -53,6 +62,14 @@ impl fmt::Display for GeometryError {
                 f,
                 "no virtual channel at elevation 0; the azimuth row must be at elevation 0"
             ),
+            GeometryError::TooManyRows(n) => write!(
+                f,
+                "{n} distinct elevations; at most {MAX_ROWS} rows (base row included)"
+            ),
+            GeometryError::NoCommonColumn => write!(
+                f,
+                "the elevation rows share no azimuth position; give every row the same azimuths"
+            ),
         }
     }
 }
@@ -63,6 +80,9 @@ pub struct ArrayGeometry {
     azimuth: [u8; MAX_CHANNELS],
     elevation: [i16; MAX_CHANNELS],
     channels: usize,
+    rows: heapless::Vec<i16, MAX_ROWS>,
+    /// Azimuth positions every row has a channel at.
+    shared: [bool; AZIMUTH_FFT],
 }
 
 impl ArrayGeometry {
@@ -117,11 +137,54 @@ impl ArrayGeometry {
             azimuth: [0; MAX_CHANNELS],
             elevation,
             channels,
+            rows: heapless::Vec::new(),
+            shared: [false; AZIMUTH_FFT],
         };
         for (dst, &a) in out.azimuth.iter_mut().zip(&azimuth[..channels]) {
             *dst = (a - lo) as u8;
         }
+        let mut rows: heapless::Vec<i16, MAX_CHANNELS> = heapless::Vec::new();
+        for &e in &elevation[..channels] {
+            if !rows.contains(&e) {
+                let _ = rows.push(e);
+            }
+        }
+        rows.sort_unstable();
+        if rows.len() > MAX_ROWS {
+            return Err(GeometryError::TooManyRows(rows.len()));
+        }
+        out.rows = rows.iter().copied().collect();
+        for p in 0..AZIMUTH_FFT {
+            out.shared[p] = out
+                .rows
+                .iter()
+                .all(|&e| (0..channels).any(|c| elevation[c] == e && out.azimuth(c) == p));
+        }
+        if out.rows.len() > 2 && !out.shared.contains(&true) {
+            return Err(GeometryError::NoCommonColumn);
+        }
         Ok(out)
+    }
+
+    /// The distinct elevations, ascending, half-wavelengths (the base row's 0 among them).
+    pub fn rows(&self) -> &[i16] {
+        &self.rows
+    }
+
+    /// Whether every row has a channel at azimuth position `p`: the columns of the elevation
+    /// aperture.
+    pub fn shared(&self, p: usize) -> bool {
+        self.shared.get(p).copied().unwrap_or(false)
+    }
+
+    /// The elevation rows' common spacing, half-wavelengths (the greatest common divisor of
+    /// their elevations; 0 with one row): the beamformer's unambiguous range is
+    /// `|sin φ| < 1 / spacing`.
+    pub fn row_spacing(&self) -> i16 {
+        fn gcd(a: i16, b: i16) -> i16 {
+            if b == 0 { a.abs() } else { gcd(b, a % b) }
+        }
+        self.rows.iter().fold(0, |g, &e| gcd(g, e))
     }
 
     /// Virtual channels.

@@ -26,6 +26,7 @@ pub fn default_options() -> CloudOptions {
         direction_floor_db: 8.0,
         min_range_m: 1.5,
         dynamic_range_db: 80.0,
+        velocity_prior: None,
     }
 }
 
@@ -35,6 +36,7 @@ pub struct Clouds {
     geometry: ArrayGeometry,
     options: CloudOptions,
     samples: Vec<metamoran_dsp::fixed::CQ15>,
+    max_velocity: f32,
 }
 
 impl Clouds {
@@ -62,18 +64,34 @@ impl Clouds {
             geometry,
             options,
             samples: Vec::new(),
+            max_velocity: scene.radar.max_velocity(),
         })
     }
 
-    /// The points of frame `frame`.
+    /// The points of frame `frame`, their radial velocities unfolded towards a static world
+    /// seen at radar velocity `prior` (m/s, radar frame) where given
+    /// ([`CloudOptions::velocity_prior`]).
     ///
     /// # Errors
     /// [`MapError`] naming the file if the frame cannot be read.
-    pub fn frame(&mut self, bundle: &mut Bundle, frame: u32) -> Result<Vec<RadarPoint>, MapError> {
+    pub fn frame(
+        &mut self,
+        bundle: &mut Bundle,
+        frame: u32,
+        prior: Option<[f32; 2]>,
+    ) -> Result<Vec<RadarPoint>, MapError> {
         bundle.read_radar_frame(frame, &mut self.samples)?;
         let spectra = self.processor.process(&self.samples)?;
-        Ok(self
-            .processor
-            .points(&spectra, &self.geometry, &self.options)?)
+        let options = CloudOptions {
+            velocity_prior: prior,
+            ..self.options
+        };
+        Ok(self.processor.points(&spectra, &self.geometry, &options)?)
+    }
+
+    /// The span of radial velocity the board measures unambiguously, m/s (twice its largest
+    /// unambiguous speed).
+    pub fn velocity_span_mps(&self) -> f32 {
+        2.0 * self.max_velocity
     }
 }

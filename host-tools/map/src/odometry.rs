@@ -7,7 +7,8 @@ use super::cloud::{Clouds, default_options};
 use crate::MapError;
 use metamoran_bundle::pose::Pose;
 use metamoran_bundle::{Bundle, OpenOptions};
-use metamoran_dsp::ego::{DopplerDetection, Mount, Ransac, estimate};
+use metamoran_dsp::ego::{DopplerDetection, Mount, Ransac, UnfoldGrid, estimate, unfold_search};
+use metamoran_dsp::points::RadarPoint;
 use serde::Serialize;
 use std::path::Path;
 
@@ -48,7 +49,18 @@ pub struct Odometry {
     pub tracked: Vec<(Pose, Vec<[f64; 3]>)>,
 }
 
+/// The cloud as ego-motion sees it: bundle.md's range and radial velocity are in the x–z
+/// plane, so the cosine relation is in azimuth alone, as the paper fits it.
+fn detections(points: &[RadarPoint]) -> Vec<DopplerDetection> {
+    points
+        .iter()
+        .map(|p| DopplerDetection::at(p.azimuth, 0.0, p.radial_velocity_mps))
+        .collect()
+}
+
 /// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
+/// Radial velocities are unfolded ([`metamoran_dsp::ego::unfold`]) where the board's
+/// unambiguous span is less than the static world's speed past it.
 ///
 /// # Errors
 /// [`MapError`] naming the file and field of a bad bundle.
@@ -61,14 +73,25 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, MapError> {
     // Per frame: the pose integrated so far and the static points (radar frame).
     let mut tracked: Vec<(Pose, Vec<[f64; 3]>)> = Vec::new();
     let mut last_motion: Option<([f64; 2], f64)> = None;
+    let mut last_velocity: Option<[f32; 2]> = None;
     for f in 0..bundle.frames() {
-        let points = clouds.frame(&mut bundle, f)?;
-        let dets: Vec<DopplerDetection> = points
-            .iter()
-            // bundle.md's range and radial velocity are in the x–z plane: the cosine relation
-            // in azimuth alone, as the paper fits it.
-            .map(|p| DopplerDetection::at(p.azimuth, 0.0, p.radial_velocity_mps))
-            .collect();
+        // Radial velocities unfold towards the last estimate; without one, towards the
+        // velocity a grid search finds the folded cloud agrees with.
+        let points = match last_velocity {
+            Some(v) => clouds.frame(&mut bundle, f, Some(v))?,
+            None => {
+                let folded = clouds.frame(&mut bundle, f, None)?;
+                match unfold_search(
+                    &detections(&folded),
+                    clouds.velocity_span_mps(),
+                    &UnfoldGrid::default(),
+                ) {
+                    Some((v, _)) => clouds.frame(&mut bundle, f, Some(v))?,
+                    None => folded,
+                }
+            }
+        };
+        let dets = detections(&points);
         let mut mask = vec![false; dets.len()];
         let est = estimate(&dets, &Ransac::default(), &mut mask).ok();
         if est.is_none() {
@@ -88,6 +111,7 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, MapError> {
                 ]
             });
         let v = est.map(|e| [f64::from(e.velocity[0]), f64::from(e.velocity[1])]);
+        last_velocity = est.map(|e| e.velocity);
         let motion = est.map(|e| mount.motion(e.velocity));
         // Integrate with the mean of the two frames' estimates over the interval between them
         // (a frame without an estimate repeats the last one).

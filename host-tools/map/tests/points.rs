@@ -1,32 +1,71 @@
 //! Radar point clouds (`metamoran_dsp::points` through `FrameProcessor::points`) against closed forms:
 //! point reflectors synthesized with the simulator's signal model (bundle.md's, plus the
 //! README's elevation term) at known range, azimuth, elevation and radial velocity, on the
-//! drive preset's board (3 TX, one of them half a wavelength up, TDM).
+//! drive preset's boards: the xWR1843-like one (3 TX, one of them half a wavelength up, TDM) and
+//! the 4D imaging one (12 TX × 16 RX, nine elevation rows, radial velocities that fold).
 
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
 use metamoran_dsp::fixed::CQ15;
 use metamoran_dsp::points::ArrayGeometry;
 use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
-use metamoran_sim::radar::drive_config;
+use metamoran_sim::radar::{RadarKind, drive_config};
 use metamoran_sim::signal::{Echo, synthesize};
 use rand::SeedableRng;
 
+/// A target: (range m, azimuth °, elevation °, radial velocity m/s).
+type Target = (f64, f64, f64, f64);
+
 #[test]
 fn point_reflectors_come_back_where_they_are() {
-    let (mut config, tx_elevation) = drive_config();
-    config.frames = 1;
-    let elevation: Vec<i16> = (0..config.channels())
-        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
-        .collect();
-    // (range m, azimuth °, elevation °, radial velocity m/s): fast movers on both sides, one
-    // high, one low, one receding; moving targets test the TDM-MIMO compensation.
+    // Fast movers on both sides, one high, one low, one receding; moving targets test the
+    // TDM-MIMO compensation.
     let targets = [
         (12.3, -35.0, 0.0, -7.3),
         (20.7, 20.0, 8.0, -4.1),
         (31.1, 5.0, -6.0, 2.6),
         (8.4, 48.0, 3.0, -1.2),
     ];
+    check(RadarKind::Xwr18xx, &targets, None, (0.5, 1.5));
+}
+
+#[test]
+fn the_imaging_board_unfolds_a_street_and_resolves_its_elevations() {
+    // A static street seen at 8.5 m/s forward: radial velocities to −8.5 m/s, folded by the
+    // board's ±5.1 m/s; the prior (the last frame's velocity) unfolds them. Elevations to
+    // ±15° over the nine rows.
+    let v = 8.5;
+    let targets: Vec<Target> = [
+        (12.3, -35.0, 0.0),
+        (20.7, 20.0, 8.0),
+        (31.1, 5.0, -6.0),
+        (8.4, 48.0, 3.0),
+        (17.2, -12.0, 15.0),
+        (25.6, -3.0, -11.0),
+    ]
+    .iter()
+    .map(|&(r, az, el): &(f64, f64, f64)| {
+        let (a, e) = (az.to_radians(), el.to_radians());
+        (r, az, el, -v * a.cos() * e.cos())
+    })
+    .collect();
+    check(
+        RadarKind::Imaging,
+        &targets,
+        Some([0.0, v as f32]),
+        (0.5, 1.0),
+    );
+}
+
+/// Synthesizes `targets` on `kind`'s drive board, forms the cloud (unfolded towards `prior`)
+/// and checks each target's strongest point within two range bins against it, to `tolerance`
+/// (azimuth, elevation) degrees.
+fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance: (f64, f64)) {
+    let (mut config, tx_elevation) = drive_config(kind);
+    config.frames = 1;
+    let elevation: Vec<i16> = (0..config.channels())
+        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
+        .collect();
     let echoes: Vec<Echo> = targets
         .iter()
         .map(|&(r, az, el, v)| Echo {
@@ -57,11 +96,14 @@ fn point_reflectors_come_back_where_they_are() {
         .points(
             &spectra,
             &geometry,
-            &metamoran_map::cloud::default_options(),
+            &metamoran_dsp::points::CloudOptions {
+                velocity_prior: prior,
+                ..metamoran_map::cloud::default_options()
+            },
         )
         .unwrap();
     let bin = config.range_bin_size(config.range_fft_len()) as f64;
-    for &(r, az, el, v) in &targets {
+    for &(r, az, el, v) in targets {
         // The strongest point within two range bins.
         let p = points
             .iter()
@@ -73,8 +115,14 @@ fn point_reflectors_come_back_where_they_are() {
             (f64::from(p.range_m) - r).abs() < bin / 4.0,
             "range {r}: {p:?}"
         );
-        assert!((deg(p.azimuth) - az).abs() < 0.5, "azimuth {az}: {p:?}");
-        assert!((deg(p.elevation) - el).abs() < 1.5, "elevation {el}: {p:?}");
+        assert!(
+            (deg(p.azimuth) - az).abs() < tolerance.0,
+            "azimuth {az}: {p:?}"
+        );
+        assert!(
+            (deg(p.elevation) - el).abs() < tolerance.1,
+            "elevation {el}: {p:?}"
+        );
         assert!(
             (f64::from(p.radial_velocity_mps) - v).abs() < 0.05,
             "velocity {v}: {p:?}"

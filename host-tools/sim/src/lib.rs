@@ -207,7 +207,7 @@ pub fn simulate_scene_with(
     } = variant.into();
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
     if preset == Preset::Drive {
-        let mut scene = drive_scene(&mut rng);
+        let mut scene = drive_scene(&mut rng, kind);
         if renumbered {
             renumber(
                 &mut scene.shots,
@@ -221,11 +221,7 @@ pub fn simulate_scene_with(
     let loops = if preset == Preset::Moving { 16 } else { 2 };
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
     // The MMWCAS board's raised TX add their elevation's phase to every echo.
-    let tx_elevation = if kind == RadarKind::Mmwcas {
-        radar::mmwcas_layout().1
-    } else {
-        Vec::new()
-    };
+    let tx_elevation = radar::tx_elevation(kind);
     let elevation: Vec<i16> = (0..config.channels())
         .map(|ch| {
             let tx = config
@@ -345,8 +341,8 @@ fn film(
 }
 
 /// The drive preset: the street moved into the radar's frame at each frame's pose.
-fn drive_scene(rng: &mut Pcg64Mcg) -> SimulatedScene {
-    let (mut config, tx_elevation) = radar::drive_config();
+fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind) -> SimulatedScene {
+    let (mut config, tx_elevation) = radar::drive_config(kind);
     config.frames = u32::from(drive::FRAMES);
     config.frame_period_s = drive::FRAME_PERIOD_S;
     let world = drive::street(rng);
@@ -528,7 +524,8 @@ pub fn simulate(
 }
 
 /// [`simulate`] as `variant` says; hard scenes go to `out/<preset>-hard-<seed>-<index>`, scenes
-/// on an imperfect board to `out/<preset>-board<B>-<seed>-<index>`.
+/// on an imperfect board to `out/<preset>-board<B>-<seed>-<index>`, the imaging board's to
+/// `out/<preset>-imaging-<seed>-<index>`.
 ///
 /// # Errors
 /// The first scene that could not be written.
@@ -555,6 +552,9 @@ pub fn simulate_with(
     }
     if variant.renumber {
         tag.push_str("-renumbered");
+    }
+    if kind == RadarKind::Imaging {
+        tag.push_str("-imaging");
     }
     let dirs: Vec<PathBuf> = (0..count)
         .map(|k| out.join(format!("{}{tag}-{seed}-{k:04}", preset.name())))

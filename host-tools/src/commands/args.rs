@@ -113,7 +113,7 @@ impl PresetArg {
 }
 
 /// A simulated radar board.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RadarArg {
     /// xWR18xx-like: 2 TX × 4 RX, 8 virtual elements, 256 samples.
     Xwr18xx,
@@ -122,6 +122,9 @@ pub enum RadarArg {
     /// The MMWCAS-RF-EVM in TI's layout (chirp order, raised TX, RX by device), written as the
     /// board's four device files.
     Mmwcas,
+    /// The drive preset's 4D imaging board: 12 TX × 16 RX as a T, 64 elements in azimuth (1.8°)
+    /// and nine rows in elevation (4.2°).
+    Imaging,
 }
 
 impl From<RadarArg> for metamoran_sim::radar::RadarKind {
@@ -130,6 +133,7 @@ impl From<RadarArg> for metamoran_sim::radar::RadarKind {
             RadarArg::Xwr18xx => Self::Xwr18xx,
             RadarArg::Cascade => Self::Cascade,
             RadarArg::Mmwcas => Self::Mmwcas,
+            RadarArg::Imaging => Self::Imaging,
         }
     }
 }
