@@ -171,10 +171,11 @@ fn map_json_has_the_issue_keys_and_writes_images_and_clouds() {
             "ego_velocity_error_mps",
             "mae_m",
             "network_fps",
+            "point_accuracy_m",
             "rmse_m"
         ]
     );
-    for errors in [&v["mae_m"], &v["rmse_m"]] {
+    for errors in [&v["mae_m"], &v["rmse_m"], &v["point_accuracy_m"]] {
         assert_eq!(keys(errors), ["frame", "ip_basic", "network", "submap"]);
         assert!(errors["submap"].as_f64().unwrap() > 0.0);
         assert_eq!(errors["network"].is_number(), network, "{v}");

@@ -11,7 +11,7 @@
 //! Phase convention (bundle.md, extended): channel `(p, e)` sees `exp(jπ(p·sin θ + e·sin φ))`
 //! for azimuth θ (positive right) and elevation φ (positive up).
 
-use super::geometry::{AZIMUTH_FFT, ArrayGeometry, MAX_ROWS};
+use super::geometry::{AZIMUTH_FFT, ArrayGeometry, MAX_AZIMUTH_FFT, MAX_ROWS};
 use crate::detect::quadratic_offset;
 use crate::fft::{Complex32, cfft_f32};
 use libm::{asinf, atan2f, log10f, sincosf};
@@ -62,25 +62,89 @@ pub fn steered_power_db(values: &[Complex32], geom: &ArrayGeometry, s: f32) -> f
     db(beam(values, geom, s, |c| geom.elevation(c) == 0))
 }
 
-/// Elevation peaks at azimuth `sin θ = s` from an array with two or more elevated rows: each
-/// row's beam over the shared columns steered to `s`, then beamformed over the rows on
-/// [`ELEVATION_GRID`] sines spanning the unambiguous `±1 / spacing` (the spectrum is periodic
-/// there). Peaks within `floor_db` of the strongest, strongest first, as (elevation rad, dB
-/// relative to the strongest). O(channels + rows · grid).
-fn elevation_peaks(
+/// Each azimuth's share of each elevation row. The rows' channels at the shared columns are
+/// fitted by least squares with the steering vectors of the azimuths `sines` the base row found,
+/// so a weak direction does not take its elevation from a stronger one that the shared columns'
+/// wider beam (16 columns: 7°) cannot tell from it. Returns, per direction, one value per row of
+/// [`ArrayGeometry::rows`]. O(channels + rows · columns · directions + directions³).
+fn separate(
     values: &[Complex32],
     geom: &ArrayGeometry,
-    s: f32,
+    sines: &[f32],
+) -> [[Complex32; MAX_ROWS]; MAX_DIRECTIONS] {
+    let zero = Complex32::new(0.0, 0.0);
+    let rows = geom.rows();
+    let k = sines.len().min(MAX_DIRECTIONS);
+    let mut cols: heapless::Vec<usize, AZIMUTH_FFT> = heapless::Vec::new();
+    let mut index = [usize::MAX; AZIMUTH_FFT];
+    for p in (0..AZIMUTH_FFT).filter(|&p| geom.shared(p)) {
+        index[p] = cols.len();
+        let _ = cols.push(p);
+    }
+    // Each row's value per shared column (duplicates averaged).
+    let mut y = [[zero; AZIMUTH_FFT]; MAX_ROWS];
+    let mut n = [[0u8; AZIMUTH_FFT]; MAX_ROWS];
+    for (ch, v) in values.iter().enumerate().take(geom.channels()) {
+        let c = index[geom.azimuth(ch)];
+        if let (true, Ok(r)) = (c != usize::MAX, rows.binary_search(&geom.elevation(ch))) {
+            y[r][c] += *v;
+            n[r][c] = n[r][c].saturating_add(1);
+        }
+    }
+    for (yr, nr) in y.iter_mut().zip(&n) {
+        for (z, &m) in yr.iter_mut().zip(nr) {
+            if m > 1 {
+                *z /= f32::from(m);
+            }
+        }
+    }
+    let steer = |c: usize, d: usize| {
+        let (si, co) = sincosf(core::f32::consts::PI * cols[c] as f32 * sines[d]);
+        Complex32::new(co, si)
+    };
+    // Normal equations AᴴA x = Aᴴ y, with a small ridge for azimuths closer than the columns
+    // resolve; unused directions keep an identity row.
+    let mut g = nalgebra::SMatrix::<Complex32, MAX_DIRECTIONS, MAX_DIRECTIONS>::identity();
+    for i in 0..k {
+        for j in 0..k {
+            let mut acc = zero;
+            for c in 0..cols.len() {
+                acc += steer(c, i).conj() * steer(c, j);
+            }
+            g[(i, j)] = acc;
+        }
+        g[(i, i)] += Complex32::new(1e-3 * cols.len() as f32, 0.0);
+    }
+    let lu = g.lu();
+    let mut out = [[zero; MAX_ROWS]; MAX_DIRECTIONS];
+    for (r, yr) in y.iter().enumerate().take(rows.len()) {
+        let mut b = nalgebra::SVector::<Complex32, MAX_DIRECTIONS>::zeros();
+        for i in 0..k {
+            for (c, &v) in yr.iter().enumerate().take(cols.len()) {
+                b[i] += steer(c, i).conj() * v;
+            }
+        }
+        if let Some(x) = lu.solve(&b) {
+            for (o, &xi) in out.iter_mut().zip(x.iter()).take(k) {
+                o[r] = xi;
+            }
+        }
+    }
+    out
+}
+
+/// Elevation peaks of one direction from its value on each elevation row (`beams`, one per
+/// [`ArrayGeometry::rows`]), beamformed over the rows on [`ELEVATION_GRID`] sines spanning the
+/// unambiguous `±1 / spacing` (the spectrum is periodic there). Peaks within `floor_db` of the
+/// strongest, strongest first, as (elevation rad, dB relative to the strongest).
+/// O(rows · grid).
+fn elevation_peaks(
+    beams: &[Complex32],
+    geom: &ArrayGeometry,
     floor_db: f32,
 ) -> heapless::Vec<(f32, f32), ELEVATIONS_PER_AZIMUTH> {
     let rows = geom.rows();
     let spacing = f32::from(geom.row_spacing().max(1));
-    let mut beams = [Complex32::new(0.0, 0.0); MAX_ROWS];
-    for (b, &e) in beams.iter_mut().zip(rows) {
-        *b = beam(values, geom, s, |c| {
-            geom.elevation(c) == e && geom.shared(geom.azimuth(c))
-        });
-    }
     // Grid point g is sin φ = (g − G/2) · step; each row's steering phase advances by a fixed
     // rotation from one point to the next.
     let step = 2.0 / (spacing * ELEVATION_GRID as f32);
@@ -138,7 +202,9 @@ pub fn cell_directions(
     mut emit: impl FnMut(Direction),
 ) -> usize {
     let n = geom.channels().min(values.len());
-    let mut row = [Complex32::new(0.0, 0.0); AZIMUTH_FFT];
+    let len = geom.azimuth_fft_len();
+    let mut buf = [Complex32::new(0.0, 0.0); MAX_AZIMUTH_FFT];
+    let row = &mut buf[..len];
     let mut count = [0u8; AZIMUTH_FFT];
     for (ch, v) in values.iter().enumerate().take(n) {
         if geom.elevation(ch) == 0 {
@@ -155,17 +221,17 @@ pub fn cell_directions(
             z.im /= f32::from(c);
         }
     }
-    if cfft_f32(&mut row).is_err() {
+    if cfft_f32(row).is_err() {
         return 0;
     }
-    let mags: [f32; AZIMUTH_FFT] = core::array::from_fn(|k| db(row[k]));
+    let mut mags = [f32::MIN; MAX_AZIMUTH_FFT];
+    for (m, z) in mags.iter_mut().zip(row.iter()) {
+        *m = db(*z);
+    }
     let top = mags.iter().copied().fold(f32::MIN, f32::max);
-    let mut peaks: heapless::Vec<usize, AZIMUTH_FFT> = heapless::Vec::new();
-    for k in 0..AZIMUTH_FFT {
-        let (l, r) = (
-            mags[(k + AZIMUTH_FFT - 1) % AZIMUTH_FFT],
-            mags[(k + 1) % AZIMUTH_FFT],
-        );
+    let mut peaks: heapless::Vec<usize, MAX_AZIMUTH_FFT> = heapless::Vec::new();
+    for k in 0..len {
+        let (l, r) = (mags[(k + len - 1) % len], mags[(k + 1) % len]);
         if mags[k] >= l && mags[k] > r && mags[k] >= top - floor_db {
             let _ = peaks.push(k);
         }
@@ -174,34 +240,39 @@ pub fn cell_directions(
     let elevated = (0..n)
         .find(|&c| geom.elevation(c) != 0)
         .map(|c| geom.elevation(c));
-    let mut emitted = 0;
+    // The azimuths (sin θ) and their base-row power.
+    let mut found: heapless::Vec<(f32, f32), MAX_DIRECTIONS> = heapless::Vec::new();
     for &k in peaks.iter().take(MAX_DIRECTIONS) {
-        let signed = if k >= AZIMUTH_FFT / 2 {
-            k as f32 - AZIMUTH_FFT as f32
+        let signed = if k >= len / 2 {
+            k as f32 - len as f32
         } else {
             k as f32
         };
-        let offset = quadratic_offset(
-            mags[(k + AZIMUTH_FFT - 1) % AZIMUTH_FFT],
-            mags[k],
-            mags[(k + 1) % AZIMUTH_FFT],
-        );
-        let s = 2.0 * (signed + offset) / AZIMUTH_FFT as f32;
-        if !(-1.0..=1.0).contains(&s) {
-            continue;
+        let offset = quadratic_offset(mags[(k + len - 1) % len], mags[k], mags[(k + 1) % len]);
+        let s = 2.0 * (signed + offset) / len as f32;
+        if (-1.0..=1.0).contains(&s) {
+            let _ = found.push((s, mags[k]));
         }
-        let direction = |elevation: f32, below_db: f32| Direction {
-            azimuth: asinf(s),
-            elevation,
-            power_db: mags[k] + below_db,
-        };
-        if geom.rows().len() > 2 {
-            for (elevation, below_db) in elevation_peaks(values, geom, s, floor_db) {
-                emit(direction(elevation, below_db));
+    }
+    let mut emitted = 0;
+    if geom.rows().len() > 2 {
+        let sines: heapless::Vec<f32, MAX_DIRECTIONS> = found.iter().map(|f| f.0).collect();
+        let rows = separate(values, geom, &sines);
+        for (&(s, power_db), beams) in found.iter().zip(&rows) {
+            for (elevation, below_db) in
+                elevation_peaks(&beams[..geom.rows().len()], geom, floor_db)
+            {
+                emit(Direction {
+                    azimuth: asinf(s),
+                    elevation,
+                    power_db: power_db + below_db,
+                });
                 emitted += 1;
             }
-            continue;
         }
+        return emitted;
+    }
+    for &(s, power_db) in &found {
         let elevation = match elevated {
             Some(e) => {
                 let up = beam(values, geom, s, |c| geom.elevation(c) == e);
@@ -219,7 +290,11 @@ pub fn cell_directions(
             }
             None => 0.0,
         };
-        emit(direction(elevation, 0.0));
+        emit(Direction {
+            azimuth: asinf(s),
+            elevation,
+            power_db,
+        });
         emitted += 1;
     }
     emitted
@@ -331,6 +406,29 @@ mod tests {
         );
         let below = got[0].power_db - got[1].power_db;
         assert!((below - 1.94).abs() < 0.5, "{below} dB");
+    }
+
+    #[test]
+    fn a_weak_direction_keeps_its_own_elevation_beside_a_strong_one() {
+        let g = imaging();
+        // 2.9° apart in azimuth: two beams of the 64-element row, but inside one beam of the
+        // 16 shared columns; the pole 5 dB stronger and 11° higher than the kerb beside it.
+        let v = values(&g, &[(0.30, 0.15, 1.0), (0.25, -0.05, 0.56)]);
+        let mut got = std::vec::Vec::new();
+        cell_directions(&v, &g, 8.0, |d| got.push(d));
+        let near = |az: f64| {
+            got.iter()
+                .find(|d| (f64::from(d.azimuth) - az).abs() < 0.01)
+                .unwrap_or_else(|| panic!("{az}: {got:?}"))
+        };
+        assert!(
+            (f64::from(near(0.30).elevation) - 0.15).abs() < 0.01,
+            "{got:?}"
+        );
+        assert!(
+            (f64::from(near(0.25).elevation) + 0.05).abs() < 0.01,
+            "{got:?}"
+        );
     }
 
     #[test]

@@ -11,8 +11,13 @@ use crate::array::MAX_CHANNELS;
 use crate::config::RadarConfig;
 use core::fmt;
 
-/// Longest azimuth aperture (half-wavelengths) the point cloud handles: the FFT length.
+/// Longest azimuth aperture (half-wavelengths) the point cloud handles, and its shortest
+/// azimuth FFT.
 pub const AZIMUTH_FFT: usize = 64;
+
+/// Longest azimuth FFT: four times the longest aperture, so the peak interpolation of a full
+/// 64-element row is not biased by a coarse grid.
+pub const MAX_AZIMUTH_FFT: usize = 4 * AZIMUTH_FFT;
 
 /// Most distinct elevations (rows, the base row included) an array may have.
 pub const MAX_ROWS: usize = 16;
@@ -200,6 +205,19 @@ impl ArrayGeometry {
     /// Elevation of channel `ch`, half-wavelengths.
     pub fn elevation(&self, ch: usize) -> i16 {
         self.elevation[ch]
+    }
+
+    /// Azimuth FFT length for this array: the base row's aperture zero-padded four times, at
+    /// least [`AZIMUTH_FFT`] (an 8-element row: 64 points; a 64-element row: 256).
+    pub fn azimuth_fft_len(&self) -> usize {
+        let span = (0..self.channels)
+            .filter(|&c| self.elevation[c] == 0)
+            .map(|c| usize::from(self.azimuth[c]))
+            .max()
+            .unwrap_or(0);
+        (4 * (span + 1))
+            .next_power_of_two()
+            .clamp(AZIMUTH_FFT, MAX_AZIMUTH_FFT)
     }
 
     /// Whether any channel is off the base row (the array can measure elevation).

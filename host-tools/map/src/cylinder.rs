@@ -21,6 +21,33 @@ impl Default for DepthImage {
     }
 }
 
+/// Which pixels a nearer one hides: a pixel is dropped when a pixel within `cols` columns and
+/// `rows` rows of it is nearer by more than `margin_m` plus `relative` of its range. A radar
+/// beam is wider than a pixel, so a submap's points of a wall seen past a pole or a parked car
+/// from earlier poses land beside that object's own points in the current view, where the
+/// lidar sees the object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Visibility {
+    /// Columns either side (0.25° each).
+    pub cols: usize,
+    /// Rows either side (0.5° each).
+    pub rows: usize,
+    /// Nearer by at least this, m …
+    pub margin_m: f32,
+    /// … plus this share of the pixel's range.
+    pub relative: f32,
+}
+
+impl Visibility {
+    /// The imaging board's beam: ±6 columns (1.5°), ±4 rows (2°); nearer by 1 m + 5 %.
+    pub const IMAGING_BEAM: Self = Self {
+        cols: 6,
+        rows: 4,
+        margin_m: 1.0,
+        relative: 0.05,
+    };
+}
+
 impl DepthImage {
     /// Projects `points`, keeping the nearest per pixel. O(n).
     pub fn project(points: impl IntoIterator<Item = [f64; 3]>) -> Self {
@@ -34,6 +61,37 @@ impl DepthImage {
             }
         }
         img
+    }
+
+    /// The image without the pixels something nearer hides ([`Visibility`]). O(pixels ·
+    /// window).
+    pub fn visible(&self, v: &Visibility) -> Self {
+        let Visibility {
+            cols,
+            rows,
+            margin_m,
+            relative,
+        } = *v;
+        let mut out = self.clone();
+        for r in 0..HEIGHT {
+            for c in 0..WIDTH {
+                let here = self.range_m[r * WIDTH + c];
+                if here <= 0.0 {
+                    continue;
+                }
+                let limit = here - margin_m - relative * here;
+                let hidden = (r.saturating_sub(rows)..(r + rows + 1).min(HEIGHT)).any(|rr| {
+                    (c.saturating_sub(cols)..(c + cols + 1).min(WIDTH)).any(|cc| {
+                        let v = self.range_m[rr * WIDTH + cc];
+                        v > 0.0 && v < limit
+                    })
+                });
+                if hidden {
+                    out.range_m[r * WIDTH + c] = 0.0;
+                }
+            }
+        }
+        out
     }
 
     /// Pixels with a point.
@@ -68,6 +126,23 @@ impl DepthImage {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pixel_beside_a_nearer_one_is_hidden_and_others_stay() {
+        let mut img = DepthImage::default();
+        let mut set = |row: usize, col: usize, r: f32| img.range_m[row * WIDTH + col] = r;
+        set(40, 100, 5.0); // a pole
+        set(43, 105, 20.0); // the wall behind it, 3 rows and 5 columns off: hidden
+        set(40, 108, 20.0); // 7 columns past the nearest: outside the window, kept
+        set(39, 101, 5.8); // nearer by less than 1 m + 5 %: the pole itself, kept
+        let v = img.visible(&Visibility::IMAGING_BEAM);
+        let at = |row: usize, col: usize| v.range_m[row * WIDTH + col];
+        assert_eq!(
+            (at(40, 100), at(43, 105), at(40, 108), at(39, 101)),
+            (5.0, 0.0, 20.0, 5.8)
+        );
+        assert_eq!(v.filled(), 3);
+    }
 
     #[test]
     fn points_land_in_their_pixels_and_the_nearest_wins() {

@@ -3,7 +3,7 @@
 //! completed by IP-Basic and, given one, by the network, and the lidar-like truth's image
 //! where the bundle has it.
 
-use super::cylinder::DepthImage;
+use super::cylinder::{DepthImage, Visibility};
 use super::odometry::Odometry;
 use super::submap::accumulate;
 use crate::MapError;
@@ -35,10 +35,26 @@ pub struct DepthImages {
 /// # Panics
 /// If `k` is not a frame of `odometry`.
 pub fn submap(odometry: &Odometry, k: usize) -> (DepthImage, DepthImage, Vec<[f64; 3]>) {
+    submap_with(odometry, k, None)
+}
+
+/// [`submap`] with both images cut to what is visible (`visibility`, where given).
+///
+/// # Panics
+/// If `k` is not a frame of `odometry`.
+pub fn submap_with(
+    odometry: &Odometry,
+    k: usize,
+    visibility: Option<&Visibility>,
+) -> (DepthImage, DepthImage, Vec<[f64; 3]>) {
     let points = accumulate(&odometry.tracked, 0, k);
+    let vis = |img: DepthImage| match visibility {
+        Some(v) => img.visible(v),
+        None => img,
+    };
     (
-        DepthImage::project(odometry.tracked[k].1.iter().copied()),
-        DepthImage::project(points.iter().copied()),
+        vis(DepthImage::project(odometry.tracked[k].1.iter().copied())),
+        vis(DepthImage::project(points.iter().copied())),
         points,
     )
 }
@@ -65,10 +81,24 @@ pub fn last(
     odometry: &Odometry,
     network: Option<Completion>,
 ) -> Result<Option<DepthImages>, MapError> {
+    last_with(dir, odometry, network, None)
+}
+
+/// [`last`] with the frame's and the submap's images cut to what is visible (`visibility`,
+/// where given) before completion.
+///
+/// # Errors
+/// A lidar file that cannot be read, or the network's message.
+pub fn last_with(
+    dir: &Path,
+    odometry: &Odometry,
+    network: Option<Completion>,
+    visibility: Option<&Visibility>,
+) -> Result<Option<DepthImages>, MapError> {
     let Some(k) = odometry.tracked.len().checked_sub(1) else {
         return Ok(None);
     };
-    let (frame, submap, submap_points) = submap(odometry, k);
+    let (frame, submap, submap_points) = submap_with(odometry, k, visibility);
     let ip_basic = DepthImage {
         range_m: super::ip_basic::complete(&submap.range_m),
     };
@@ -86,18 +116,19 @@ pub fn last(
 }
 
 /// Training pairs for the network: for every frame with lidar truth, `(frame, submap image,
-/// lidar image)`.
+/// lidar image)`, the submap cut to what is visible where `visibility` is given.
 ///
 /// # Errors
 /// A lidar file that cannot be read.
 pub fn training_pairs(
     dir: &Path,
     odometry: &Odometry,
+    visibility: Option<&Visibility>,
 ) -> Result<Vec<(u32, DepthImage, DepthImage)>, MapError> {
     let mut pairs = Vec::new();
     for k in 0..odometry.tracked.len() {
         if let Some(truth) = lidar(dir, k as u32)? {
-            pairs.push((k as u32, submap(odometry, k).1, truth));
+            pairs.push((k as u32, submap_with(odometry, k, visibility).1, truth));
         }
     }
     Ok(pairs)

@@ -1,6 +1,6 @@
 //! The mapping report (the paper's Tables 1–3 for one bundle): ego-velocity error, density
-//! growth, MAE and RMSE of each depth image against the lidar truth, and the network's frame
-//! rate. Its JSON is what `metamoran map --json` prints.
+//! growth, MAE and RMSE of each depth image against the lidar truth, each image's point
+//! accuracy (median distance to the nearest lidar point), and the network's frame rate. Its JSON is what `metamoran map --json` prints.
 
 use super::depth::{self, Completion, DepthImages};
 use super::odometry::{self, Odometry};
@@ -39,9 +39,79 @@ pub struct MapReport {
     pub mae_m: Option<ImageErrors>,
     /// Root-mean-square depth error against the lidar truth, m.
     pub rmse_m: Option<ImageErrors>,
+    /// Point accuracy (the paper's): the median distance from each image's points (its
+    /// pixels' centre rays at their ranges) to the nearest lidar point, m; distances over
+    /// [`ACCURACY_CAP_M`] count as that.
+    pub point_accuracy_m: Option<ImageErrors>,
     /// Network inferences per second on this machine (mean of [`FPS_RUNS`] on the last
     /// submap), or `null` without a network.
     pub network_fps: Option<f64>,
+}
+
+/// Largest nearest-lidar distance [`point_accuracy`] resolves, m: the median is exact while
+/// more than half the points are nearer.
+pub const ACCURACY_CAP_M: f64 = 3.0;
+
+/// The median distance from each of `points` to the nearest of `lidar` (m, capped at
+/// [`ACCURACY_CAP_M`]); `None` without points or lidar points. Lidar points are hashed in
+/// 1 m cells: O((points + lidar) · 7³).
+pub fn point_accuracy(points: &[[f64; 3]], lidar: &[[f64; 3]]) -> Option<f64> {
+    if points.is_empty() || lidar.is_empty() {
+        return None;
+    }
+    let cell = |p: &[f64; 3]| p.map(|v| v.floor() as i64);
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<[f64; 3]>> =
+        std::collections::HashMap::new();
+    for q in lidar {
+        grid.entry(cell(q)).or_default().push(*q);
+    }
+    let reach = ACCURACY_CAP_M.ceil() as i64;
+    let mut d: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            let c = cell(p);
+            let mut best = ACCURACY_CAP_M;
+            for dx in -reach..=reach {
+                for dy in -reach..=reach {
+                    for dz in -reach..=reach {
+                        for q in grid
+                            .get(&[c[0] + dx, c[1] + dy, c[2] + dz])
+                            .into_iter()
+                            .flatten()
+                        {
+                            let e = ((p[0] - q[0]).powi(2)
+                                + (p[1] - q[1]).powi(2)
+                                + (p[2] - q[2]).powi(2))
+                            .sqrt();
+                            best = best.min(e);
+                        }
+                    }
+                }
+            }
+            best
+        })
+        .collect();
+    d.sort_by(f64::total_cmp);
+    let n = d.len();
+    Some(if n % 2 == 1 {
+        d[n / 2]
+    } else {
+        (d[n / 2 - 1] + d[n / 2]) / 2.0
+    })
+}
+
+/// Each image's [`point_accuracy`] against the lidar image's points, if there is one.
+pub fn accuracy(images: &DepthImages) -> Option<ImageErrors> {
+    let lidar = images.lidar.as_ref()?.points();
+    let a = |img: Option<&super::cylinder::DepthImage>| {
+        img.and_then(|i| point_accuracy(&i.points(), &lidar))
+    };
+    Some(ImageErrors {
+        frame: a(Some(&images.frame)),
+        submap: a(Some(&images.submap)),
+        ip_basic: a(Some(&images.ip_basic)),
+        network: a(images.network.as_ref()),
+    })
 }
 
 /// (MAE, RMSE) of `image` against `truth` over the pixels where both have a depth; `None`
@@ -93,8 +163,21 @@ pub fn run(
     mount: &Mount,
     network: Option<Completion>,
 ) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
+    run_with(dir, mount, network, None)
+}
+
+/// [`run`] with the depth images cut to what is visible ([`depth::last_with`]).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with(
+    dir: &Path,
+    mount: &Mount,
+    network: Option<Completion>,
+    visibility: Option<&crate::cylinder::Visibility>,
+) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
     let odometry = odometry::run(dir, mount)?;
-    let images = depth::last(dir, &odometry, network)?;
+    let images = depth::last_with(dir, &odometry, network, visibility)?;
     let network_fps = match (network, &images) {
         (Some(n), Some(im)) => {
             let start = Instant::now();
@@ -113,7 +196,30 @@ pub fn run(
             .and_then(|im| density_growth(&im.frame, &im.submap)),
         mae_m: errors.map(|e| e.0),
         rmse_m: errors.map(|e| e.1),
+        point_accuracy_m: images.as_ref().and_then(accuracy),
         network_fps,
     };
     Ok((report, odometry, images))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn point_accuracy_is_the_median_nearest_lidar_distance() {
+        let lidar = [[0.0, 0.0, 10.0], [5.0, 0.0, 10.0], [0.0, 0.0, 30.0]];
+        // 0.1 m, 0.2 m and 0.4 m from their nearest lidar points, and one beyond the cap.
+        let points = [
+            [0.1, 0.0, 10.0],
+            [5.0, 0.2, 10.0],
+            [0.0, 0.0, 29.6],
+            [20.0, 0.0, 50.0],
+        ];
+        let m = point_accuracy(&points, &lidar).unwrap();
+        assert!((m - 0.3).abs() < 1e-9, "{m}");
+        let m = point_accuracy(&points[..3], &lidar).unwrap();
+        assert!((m - 0.2).abs() < 1e-9, "{m}");
+        assert_eq!(point_accuracy(&[], &lidar), None);
+    }
 }
