@@ -253,6 +253,7 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
         silence_s: 60.0,
         // The poles' recordings, for the selected track's pictures.
         bundles: Some(dir.clone()),
+        tls: None,
     })
     .unwrap();
     let addr = web.addr();

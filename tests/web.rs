@@ -71,6 +71,7 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
         session_ttl: Duration::from_secs(600),
         silence_s: 60.0,
         bundles: Some(dir.clone()),
+        tls: None,
     })
     .unwrap();
     let addr = server.addr();
@@ -331,4 +332,104 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
     let big = "x".repeat(metamoran_web::MAX_BODY_BYTES + 1);
     assert_eq!(status_of(&post_login(addr, &big)), 413);
     server.stop();
+}
+
+/// One HTTP/1.1 exchange over TLS with a client that trusts only `ca` (PEM); the reply.
+fn https(addr: std::net::SocketAddr, ca: &str, head: &str, body: &str) -> String {
+    use rustls::pki_types::pem::PemObject;
+    use std::io::{Read, Write};
+    let mut roots = rustls::RootCertStore::empty();
+    for cert in rustls::pki_types::CertificateDer::pem_slice_iter(ca.as_bytes()) {
+        roots.add(cert.unwrap()).unwrap();
+    }
+    let config = rustls::ClientConfig::builder_with_provider(std::sync::Arc::new(
+        rustls::crypto::ring::default_provider(),
+    ))
+    .with_safe_default_protocol_versions()
+    .unwrap()
+    .with_root_certificates(roots)
+    .with_no_client_auth();
+    let name = rustls::pki_types::ServerName::try_from("localhost").unwrap();
+    let conn = rustls::ClientConnection::new(std::sync::Arc::new(config), name).unwrap();
+    let tcp = std::net::TcpStream::connect(addr).unwrap();
+    let mut tls = rustls::StreamOwned::new(conn, tcp);
+    write!(
+        tls,
+        "{head}\r\nHost: localhost\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut reply = Vec::new();
+    let _ = tls.read_to_end(&mut reply);
+    String::from_utf8_lossy(&reply).into_owned()
+}
+
+#[test]
+fn the_page_is_served_over_https_and_plain_http_only_on_loopback() {
+    let out = tempfile::tempdir().unwrap();
+    // The simulated site's plan; no sensor is replayed (the state is what is checked).
+    let file = SiteFile::parse(&metamoran_sim::site::site_toml("site-tls")).unwrap();
+    let users = Users::parse(&format!("operator:{}", hash_password(PASSWORD).unwrap())).unwrap();
+    let made = rcgen::generate_simple_self_signed(vec!["localhost".to_owned()]).unwrap();
+    let (cert, key) = (out.path().join("cert.pem"), out.path().join("key.pem"));
+    std::fs::write(&cert, made.cert.pem()).unwrap();
+    std::fs::write(&key, made.key_pair.serialize_pem()).unwrap();
+    let options =
+        |listen: &str, tls: Option<metamoran_web::tls::TlsFiles>| metamoran_web::ServeOptions {
+            site: file.clone(),
+            users: users.clone(),
+            feed: metamoran_web::replay_feed(Vec::new(), 0.25),
+            listen: listen.parse().unwrap(),
+            session_ttl: Duration::from_secs(600),
+            silence_s: 60.0,
+            bundles: None,
+            tls,
+        };
+    let files = metamoran_web::tls::TlsFiles {
+        cert: cert.clone(),
+        key: key.clone(),
+    };
+    let server = metamoran_web::start(options("127.0.0.1:0", Some(files.clone()))).unwrap();
+    let addr = server.addr();
+    // Logging in over HTTPS gives a session cookie browsers send only over HTTPS.
+    let reply = https(
+        addr,
+        &made.cert.pem(),
+        "POST /login HTTP/1.1\r\nContent-Type: application/x-www-form-urlencoded",
+        &format!("user=operator&password={PASSWORD}"),
+    );
+    assert_eq!(status_of(&reply), 303, "{reply}");
+    let cookie_line = reply
+        .lines()
+        .find(|l| l.to_ascii_lowercase().starts_with("set-cookie:"))
+        .unwrap_or_else(|| panic!("{reply}"));
+    assert!(cookie_line.contains("; Secure"), "{cookie_line}");
+    let cookie = cookie_line
+        .split_once(':')
+        .and_then(|(_, v)| v.trim().split(';').next())
+        .unwrap();
+    let state = https(
+        addr,
+        &made.cert.pem(),
+        &format!("GET /api/state HTTP/1.1\r\nCookie: {cookie}"),
+        "",
+    );
+    assert_eq!(status_of(&state), 200, "{state}");
+    assert!(state.contains("\"tracks\""), "{state}");
+    // Plain HTTP to the HTTPS port gets no HTTP answer.
+    assert_eq!(status_of(&http(addr, "GET / HTTP/1.1", "")), 0);
+    server.stop();
+    // Plain HTTP is refused on an address other hosts reach; a bad key file is named.
+    let refused = metamoran_web::start(options("0.0.0.0:0", None))
+        .err()
+        .unwrap();
+    assert!(
+        refused.to_string().contains("not a loopback address"),
+        "{refused}"
+    );
+    std::fs::write(&key, "not a key").unwrap();
+    let bad = metamoran_web::start(options("127.0.0.1:0", Some(files)))
+        .err()
+        .unwrap();
+    assert!(bad.to_string().contains("key.pem"), "{bad}");
 }

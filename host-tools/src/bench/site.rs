@@ -192,6 +192,7 @@ fn measure(
         session_ttl: Duration::from_secs(3600),
         silence_s: 3600.0,
         bundles: None,
+        tls: None,
     })
     .map_err(|e| e.to_string())?;
     let addr = web.addr();

@@ -10,7 +10,7 @@ use std::time::Duration;
 /// file); updates as server-sent events.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran hash-password < pw.txt | sed 's/^/alice:/' > users.txt\n  metamoran serve --site sites/site-1/site.toml --users users.txt --replay sites/site-1\n  metamoran serve --site site.toml --users users.txt --nats nats://127.0.0.1:4222 --bundles site-1 --listen 127.0.0.1:8080"
+    after_help = "Examples:\n  metamoran hash-password < pw.txt | sed 's/^/alice:/' > users.txt\n  metamoran serve --site sites/site-1/site.toml --users users.txt --replay sites/site-1\n  metamoran serve --site site.toml --users users.txt --nats nats://127.0.0.1:4222 --bundles site-1 --listen 0.0.0.0:8443 --tls-cert cert.pem --tls-key key.pem"
 )]
 pub struct Args {
     /// The site file (sensors, plan, zones).
@@ -19,9 +19,15 @@ pub struct Args {
     /// Users file: `user:argon2-hash` lines (metamoran hash-password makes a hash).
     #[arg(long)]
     users: PathBuf,
-    /// Address to serve on (loopback by default; put TLS in front for anything else).
+    /// Address to serve on (loopback by default; any other address needs --tls-cert).
     #[arg(long, default_value = "127.0.0.1:8080")]
     listen: SocketAddr,
+    /// Serve HTTPS with this certificate chain (PEM, leaf first).
+    #[arg(long, value_name = "PEM", requires = "tls_key")]
+    tls_cert: Option<PathBuf>,
+    /// The certificate's private key (PEM).
+    #[arg(long, value_name = "PEM", requires = "tls_cert")]
+    tls_key: Option<PathBuf>,
     /// Replay a simulated site folder (its bundles processed and tracked as the sensors would,
     /// then fed in real time, over and over) instead of subscribing to NATS.
     #[arg(long, value_name = "DIR", conflicts_with = "nats")]
@@ -64,10 +70,20 @@ pub fn run(args: &Args) -> super::Result {
         session_ttl: Duration::from_secs(args.session_minutes.max(1) * 60),
         silence_s: args.silence_s,
         bundles: args.replay.clone().or_else(|| args.bundles.clone()),
+        tls: args
+            .tls_cert
+            .clone()
+            .zip(args.tls_key.clone())
+            .map(|(cert, key)| metamoran_web::tls::TlsFiles { cert, key }),
     })
     .map_err(|e| e.to_string())?;
     // Scripts read this line for the address (port 0 picks a free one).
-    println!("serving http://{}/", server.addr());
+    let scheme = if args.tls_cert.is_some() {
+        "https"
+    } else {
+        "http"
+    };
+    println!("serving {scheme}://{}/", server.addr());
     server.wait();
     Ok(())
 }

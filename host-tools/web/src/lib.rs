@@ -14,12 +14,14 @@
 //! `HttpOnly`, `SameSite=Strict` cookie, expiring); passwords are checked against argon2id
 //! hashes from a file; login attempts are limited per address; request bodies are bounded;
 //! the page builds every string it shows with `textContent`, and the only server-rendered
-//! string (the site name) is escaped. No TLS of its own: serve on loopback or behind the
-//! site's TLS proxy.
+//! string (the site name) is escaped. HTTPS with `--tls-cert`/`--tls-key` ([`tls`], rustls;
+//! session cookies are then `Secure`); without them only a loopback address is served, for the
+//! site's TLS proxy in front.
 
 pub mod live;
 pub mod login;
 mod pictures;
+pub mod tls;
 
 use axum::extract::{ConnectInfo, DefaultBodyLimit, Form, State};
 use axum::http::{HeaderMap, StatusCode, header};
@@ -57,6 +59,19 @@ pub enum WebError {
     /// The NATS server cannot be used.
     #[error(transparent)]
     Nats(#[from] metamoran_operator::OperatorError),
+    /// A TLS certificate or key file cannot be read or used.
+    #[error("{path}: {problem}")]
+    Tls {
+        /// The file.
+        path: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// Plain HTTP asked for on an address other hosts can reach.
+    #[error(
+        "--listen {0}: not a loopback address; serve over TLS (--tls-cert FILE --tls-key FILE) or listen on loopback behind the site's TLS proxy"
+    )]
+    PlainHttp(SocketAddr),
 }
 
 /// Where the sensors' messages come from.
@@ -93,6 +108,9 @@ pub struct ServeOptions {
     /// The folder with each sensor's bundle (`DIR/<sensor>/`), for the selected track's
     /// pictures; without it the page shows none.
     pub bundles: Option<std::path::PathBuf>,
+    /// Serve HTTPS with this certificate and key; without it only a loopback address is
+    /// served (plain HTTP, for a TLS proxy in front).
+    pub tls: Option<tls::TlsFiles>,
 }
 
 /// Largest request body, bytes (a login form or an acknowledgement).
@@ -111,6 +129,8 @@ struct App {
     acks: Option<(async_nats::jetstream::Context, String)>,
     /// The sensors' bundles, for the selected track's pictures.
     bundles: Option<pictures::Bundles>,
+    /// Whether the page is served over TLS (session cookies are then `Secure`).
+    secure: bool,
 }
 
 type Shared = Arc<App>;
@@ -204,7 +224,13 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         session_ttl,
         silence_s,
         bundles,
+        tls,
     } = options;
+    let acceptor = match &tls {
+        Some(files) => Some(tls::acceptor(files)?),
+        None if !tls::is_loopback(&listen) => return Err(WebError::PlainHttp(listen)),
+        None => None,
+    };
     let (changed, _) = tokio::sync::watch::channel(0u64);
     let nats = match &feed {
         Feed::Nats(config) => Some(runtime.block_on(connect(config))?),
@@ -224,6 +250,7 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         ttl: session_ttl,
         changed,
         bundles: bundles.map(pictures::Bundles::new),
+        secure: acceptor.is_some(),
         acks: nats.as_ref().map(|(client, config)| {
             (
                 async_nats::jetstream::new(client.clone()),
@@ -268,16 +295,23 @@ pub fn start(options: ServeOptions) -> Result<Server, WebError> {
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(app);
     let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
-    runtime.spawn(async move {
-        let serve = axum::serve(
-            listener,
-            router.into_make_service_with_connect_info::<SocketAddr>(),
-        )
-        .with_graceful_shutdown(async {
-            let _ = stopped.await;
-        });
-        let _ = serve.await;
-    });
+    match acceptor {
+        Some(acceptor) => {
+            runtime.spawn(tls::serve(listener, acceptor, router, stopped));
+        }
+        None => {
+            runtime.spawn(async move {
+                let serve = axum::serve(
+                    listener,
+                    router.into_make_service_with_connect_info::<SocketAddr>(),
+                )
+                .with_graceful_shutdown(async {
+                    let _ = stopped.await;
+                });
+                let _ = serve.await;
+            });
+        }
+    }
     Ok(Server {
         addr,
         runtime,
@@ -456,8 +490,9 @@ async fn do_login(
     };
     let token = lock(&app.sessions).open(&user, app.ttl, Instant::now());
     let cookie = format!(
-        "mm_session={token}; HttpOnly; SameSite=Strict; Path=/; Max-Age={}",
-        app.ttl.as_secs()
+        "mm_session={token}; HttpOnly; SameSite=Strict; Path=/; Max-Age={}{}",
+        app.ttl.as_secs(),
+        if app.secure { "; Secure" } else { "" }
     );
     ([(header::SET_COOKIE, cookie)], Redirect::to("/")).into_response()
 }
