@@ -334,3 +334,60 @@ fn the_site_process_fuses_the_poles_tracks_from_nats() {
     assert_eq!(enters.len(), 2, "{site_alerts:?}");
     web.stop();
 }
+
+/// nats-server with TLS (a certificate made for the run): a sensor that trusts it publishes an
+/// alert and a station replays it over TLS; a client that does not trust the certificate, and
+/// one that will not use TLS, are refused.
+#[test]
+fn the_stream_runs_over_tls_with_a_trusted_certificate_only() {
+    let Some(exe) = nats_server() else {
+        assert!(
+            !oracles_required(),
+            "nats-server is required (apt-get install -y nats-server)"
+        );
+        eprintln!("SKIPPED: nats-server not installed");
+        return;
+    };
+    let state = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let made = rcgen::generate_simple_self_signed(vec!["127.0.0.1".to_owned()]).unwrap();
+    let (cert, key) = (state.path().join("cert.pem"), state.path().join("key.pem"));
+    std::fs::write(&cert, made.cert.pem()).unwrap();
+    std::fs::write(&key, made.key_pair.serialize_pem()).unwrap();
+    let conf = write_config(state.path(), port);
+    let mut text = std::fs::read_to_string(&conf).unwrap();
+    text.push_str(&format!(
+        "tls {{ cert_file: \"{}\", key_file: \"{}\" }}\n",
+        cert.display(),
+        key.display()
+    ));
+    std::fs::write(&conf, text).unwrap();
+    let _server = start(&exe, &conf, port);
+    let secure = |sensor: &str, who| {
+        let mut c = config(port, sensor, who);
+        c.ca = Some(cert.clone());
+        c
+    };
+    let p = NatsPublisher::connect(&secure("gate", login("gate", SENSOR_PASSWORD))).unwrap();
+    let alert = serde_json::json!({ "kind": "enter", "zone": "yard", "track": 7, "frame": 3 });
+    // Published on the alert subject, which the stream stores.
+    p.publish("alerts", &alert);
+    p.close(Duration::from_secs(5)).unwrap();
+    let stored = replay(&secure("station", login("station", STATION_PASSWORD)), 10).unwrap();
+    assert_eq!(stored.len(), 1, "{stored:?}");
+    assert!(stored[0].json.contains("\"track\":7"), "{stored:?}");
+    // Without the certificate among its roots (plain or TLS), a client gets nowhere.
+    let e = NatsPublisher::connect(&config(port, "gate", login("gate", SENSOR_PASSWORD)))
+        .err()
+        .expect("a client without the server's certificate connected");
+    assert!(e.to_string().contains("cannot connect"), "{e}");
+    let other = rcgen::generate_simple_self_signed(vec!["127.0.0.1".to_owned()]).unwrap();
+    let stranger = state.path().join("other.pem");
+    std::fs::write(&stranger, other.cert.pem()).unwrap();
+    let mut wrong = config(port, "gate", login("gate", SENSOR_PASSWORD));
+    wrong.ca = Some(stranger);
+    let e = NatsPublisher::connect(&wrong)
+        .err()
+        .expect("a client trusting another certificate connected");
+    assert!(e.to_string().contains("cannot connect"), "{e}");
+}
