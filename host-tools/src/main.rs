@@ -69,7 +69,23 @@ fn run(cli: &Cli) -> commands::Result {
     }
 }
 
+/// Exit status of a process whose reader went away (128 + SIGPIPE, as a shell reports one).
+const BROKEN_PIPE_EXIT: i32 = 141;
+
 fn main() -> ExitCode {
+    // `metamoran odometry B | head` closes standard output early; `print!` then panics. Leave
+    // quietly as a Unix filter would, instead of reporting that panic.
+    let report = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map_or("", String::as_str);
+        if message.starts_with("failed printing to stdout") && message.contains("os error 32") {
+            std::process::exit(BROKEN_PIPE_EXIT);
+        }
+        report(info);
+    }));
     match run(&Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -193,6 +193,218 @@ pub fn street(rng: &mut impl Rng) -> Vec<SceneObject> {
     objects
 }
 
+/// Where the vehicle drives (issue #21 wants more than one kind of place).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Environment {
+    /// [`street`]: walls at 5.5–9 m, poles, parked cars, traffic (the `drive` preset, as it
+    /// always was).
+    Street,
+    /// [`tunnel`]: close walls and a ceiling, densely scattering.
+    Tunnel,
+    /// [`parking_area`]: rows of parked cars, lamp posts, building fronts far off.
+    ParkingArea,
+}
+
+/// One environment's world: its objects, ground scatterers and, in a tunnel, the ceiling's
+/// height over the road (m).
+pub struct World {
+    /// Objects in the world frame.
+    pub objects: Vec<SceneObject>,
+    /// Ground scatterers.
+    pub ground: Vec<Scatterer>,
+    /// Ceiling height over the ground, m, and its scatterers.
+    pub ceiling: Option<(f64, Vec<Scatterer>)>,
+}
+
+/// Draws `env`'s world. The street draws as it always has (same seeds, same scenes).
+pub fn world(env: Environment, rng: &mut impl Rng) -> World {
+    match env {
+        Environment::Street => {
+            let objects = street(rng);
+            let ground = ground(rng, 9.0);
+            World {
+                objects,
+                ground,
+                ceiling: None,
+            }
+        }
+        Environment::Tunnel => tunnel(rng),
+        Environment::ParkingArea => parking_area(rng),
+    }
+}
+
+/// Diffuse scatterers every `step` m along `a`–`b` at heights `heights` (m over the ground),
+/// reflectivity `rcs`.
+fn surface(
+    rng: &mut impl Rng,
+    (a, b): ([f64; 2], [f64; 2]),
+    step: f64,
+    heights: std::ops::Range<f64>,
+    rcs: std::ops::Range<f64>,
+) -> Vec<Scatterer> {
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let n = (len / step) as usize;
+    (0..=n)
+        .map(|i| {
+            let s = (i as f64 + rng.random_range(-0.3..0.3)).clamp(0.0, n as f64) / n.max(1) as f64;
+            Scatterer {
+                position: nalgebra::Vector3::new(
+                    a[0] + s * (b[0] - a[0]),
+                    GROUND_Y - rng.random_range(heights.clone()),
+                    a[1] + s * (b[1] - a[1]),
+                ),
+                rcs: rng.random_range(rcs.clone()),
+                phase: rng.random_range(0.0..TAU),
+            }
+        })
+        .collect()
+}
+
+/// Objects numbered 1.. in order.
+fn numbered(objects: Vec<(&'static str, Shape, [f64; 2], Vec<Scatterer>)>) -> Vec<SceneObject> {
+    objects
+        .into_iter()
+        .enumerate()
+        .map(|(i, (class, shape, velocity, scatterers))| SceneObject {
+            id: i as u16 + 1,
+            class,
+            shape,
+            velocity,
+            scatterers,
+        })
+        .collect()
+}
+
+/// A car's box at `centre` with `heading` (rad from +z).
+fn car_box(rng: &mut impl Rng, centre: [f64; 2], heading: f64) -> Shape {
+    Shape::Box {
+        centre,
+        half_length: rng.random_range(2.1..2.4),
+        half_width: 0.9,
+        heading,
+        y_top: GROUND_Y - 1.5,
+        y_bottom: GROUND_Y,
+    }
+}
+
+/// One or two other cars: oncoming in the left lane (starting 45–70 m out, so that in the
+/// scene's 2 s it does not reach the radar and fill the view at a metre) or ahead in ours.
+fn traffic(
+    rng: &mut impl Rng,
+    lanes: (f64, f64),
+    out: &mut Vec<(&'static str, Shape, [f64; 2], Vec<Scatterer>)>,
+) {
+    for k in 0..rng.random_range(1..=2) {
+        let (x, v) = if k % 2 == 0 {
+            (lanes.0, -rng.random_range(4.0..9.0))
+        } else {
+            (lanes.1, rng.random_range(2.0..6.0))
+        };
+        let z = if v < 0.0 {
+            rng.random_range(45.0..70.0)
+        } else {
+            rng.random_range(20.0..60.0)
+        };
+        let shape = car_box(rng, [x, z], 0.0);
+        let mut pts = object::vehicle(rng, &shape);
+        object::random_phases(rng, &mut pts);
+        out.push(("car", shape, [0.0, v], pts));
+    }
+}
+
+/// A road tunnel: walls 3.5–5 m either side from the road to a ceiling 4.5–5.5 m up, a
+/// scatterer every 0.25 m along each wall and one per 1 m × 1 m of ceiling; one or two cars.
+pub fn tunnel(rng: &mut impl Rng) -> World {
+    let (left, right) = (-rng.random_range(3.5..5.0), rng.random_range(3.5..5.0));
+    let height = rng.random_range(4.5..5.5);
+    let mut objects = Vec::new();
+    for x in [left, right] {
+        let (a, b) = ([x, -5.0], [x, 90.0]);
+        let pts = surface(rng, (a, b), 0.25, 0.2..height - 0.2, 0.3..1.5);
+        let shape = Shape::Panel {
+            a,
+            b,
+            y_top: GROUND_Y - height,
+            y_bottom: GROUND_Y,
+        };
+        objects.push(("wall", shape, [0.0; 2], pts));
+    }
+    traffic(rng, (-1.5, 1.5), &mut objects);
+    let mut ceiling = Vec::new();
+    let across = (right - left).floor() as i32;
+    for i in 0..=across {
+        for z in -5..90 {
+            ceiling.push(Scatterer {
+                position: nalgebra::Vector3::new(
+                    left + f64::from(i) + rng.random_range(-0.3..0.3),
+                    GROUND_Y - height,
+                    f64::from(z) + rng.random_range(-0.4..0.4),
+                ),
+                rcs: rng.random_range(0.05..0.4),
+                phase: rng.random_range(0.0..TAU),
+            });
+        }
+    }
+    World {
+        objects: numbered(objects),
+        ground: ground(rng, left.abs().max(right)),
+        ceiling: Some((height, ceiling)),
+    }
+}
+
+/// An open parking area: two rows of cars parked across either side of the lane (3.5–5 m and
+/// 9.5–11 m out, 60 % of the 2.6 m bays taken), lamp posts 7 m out every 15–25 m, building
+/// fronts 18–30 m off (a scatterer every 0.5 m to 6 m up); one or two cars in the lane.
+pub fn parking_area(rng: &mut impl Rng) -> World {
+    let mut objects = Vec::new();
+    for side in [-1.0, 1.0] {
+        for row in [rng.random_range(3.5..5.0), rng.random_range(9.5..11.0)] {
+            let mut z = rng.random_range(2.0..6.0);
+            while z < 85.0 {
+                if rng.random_bool(0.6) {
+                    let shape = car_box(rng, [side * (row + 2.2), z], PI / 2.0);
+                    let pts = object::vehicle(rng, &shape);
+                    objects.push(("vehicle_parked", shape, [0.0; 2], pts));
+                }
+                z += 2.6;
+            }
+        }
+        let mut z = rng.random_range(3.0..12.0);
+        while z < 85.0 {
+            let x = side * 7.2;
+            let shape = Shape::Cylinder {
+                centre: [x, z],
+                radius: 0.1,
+                y_top: GROUND_Y - 8.0,
+                y_bottom: GROUND_Y,
+            };
+            let pts = vec![Scatterer {
+                position: nalgebra::Vector3::new(x, GROUND_Y - rng.random_range(0.5..3.0), z),
+                rcs: rng.random_range(3.0..15.0),
+                phase: rng.random_range(0.0..TAU),
+            }];
+            objects.push(("pole", shape, [0.0; 2], pts));
+            z += rng.random_range(15.0..25.0);
+        }
+        let x = side * rng.random_range(18.0..30.0);
+        let (a, b) = ([x, -5.0], [x, 90.0]);
+        let pts = surface(rng, (a, b), 0.5, 0.2..6.0, 0.3..1.5);
+        let shape = Shape::Panel {
+            a,
+            b,
+            y_top: GROUND_Y - 6.0,
+            y_bottom: GROUND_Y,
+        };
+        objects.push(("wall", shape, [0.0; 2], pts));
+    }
+    traffic(rng, (-1.5, 1.5), &mut objects);
+    World {
+        objects: numbered(objects),
+        ground: ground(rng, 30.0),
+        ceiling: None,
+    }
+}
+
 /// Ground scatterers along the street (world frame).
 pub fn ground(rng: &mut impl Rng, half_width: f64) -> Vec<Scatterer> {
     (0..400)
@@ -276,6 +488,74 @@ pub fn in_radar_frame(o: &SceneObject, pose: &Pose, radar_v: [f64; 2]) -> SceneO
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn a_tunnel_is_walled_and_roofed_and_the_lane_stays_clear() {
+        for seed in 0..8 {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+            let w = world(Environment::Tunnel, &mut rng);
+            let (height, roof) = w.ceiling.clone().expect("a tunnel has a ceiling");
+            assert!((4.5..5.5).contains(&height), "{height}");
+            // A scatterer per square metre of ceiling, on the ceiling.
+            assert!(roof.len() > 7 * 95, "{}", roof.len());
+            assert!(
+                roof.iter()
+                    .all(|s| (s.position.y - (GROUND_Y - height)).abs() < 1e-9)
+            );
+            let walls: Vec<_> = w.objects.iter().filter(|o| o.class == "wall").collect();
+            assert_eq!(walls.len(), 2);
+            for o in &walls {
+                // Four per metre along 95 m, from the road to under the ceiling.
+                assert!(o.scatterers.len() >= 4 * 95, "{}", o.scatterers.len());
+                assert!(o.scatterers.iter().all(|s| {
+                    let up = GROUND_Y - s.position.y;
+                    (0.2..height).contains(&up) && (3.5..5.0).contains(&s.position.x.abs())
+                }));
+            }
+            assert_clear(&w);
+        }
+    }
+
+    #[test]
+    fn a_parking_area_has_rows_of_cars_beside_a_clear_lane() {
+        for seed in 0..8 {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+            let w = world(Environment::ParkingArea, &mut rng);
+            assert!(w.ceiling.is_none());
+            let parked: Vec<_> = w
+                .objects
+                .iter()
+                .filter(|o| o.class == "vehicle_parked")
+                .collect();
+            // Four rows of 32 bays, 60 % taken.
+            assert!((40..110).contains(&parked.len()), "{}", parked.len());
+            for o in &parked {
+                let Shape::Box { centre, .. } = o.shape else {
+                    panic!("a parked car is a box")
+                };
+                assert!(centre[0].abs() >= 3.5 + 2.1, "{centre:?}");
+            }
+            assert_clear(&w);
+        }
+    }
+
+    /// Nothing static in the radar's lane (|x| < 2.5 m), and oncoming traffic starts 45 m or
+    /// more ahead, so in 2 s at up to 17 m/s closing it stays in front of the radar.
+    fn assert_clear(w: &World) {
+        for o in &w.objects {
+            let c = o.centre();
+            if o.velocity[1] < 0.0 {
+                assert!(c[1] >= 45.0 - 2.5, "{} at {c:?}", o.class);
+            } else if o.velocity == [0.0; 2] {
+                assert!(
+                    o.scatterers.iter().all(|s| s.position.x.abs() > 2.5),
+                    "{}",
+                    o.class
+                );
+            }
+        }
+    }
 
     #[test]
     fn poses_follow_the_integrated_motion() {

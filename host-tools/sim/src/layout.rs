@@ -30,9 +30,16 @@ pub enum Preset {
     /// farther from the camera for a frame or two), and a car crawling across the lot at 32–38 m.
     Crossing,
     /// The radar on a vehicle driving down a street of walls, poles and parked cars among
-    /// traffic, 20 frames at 10 Hz, with an elevated TX (xWR1843-like board whatever `--radar`
-    /// says): dense radar mapping's scenes. Ego pose and velocity in truth.json.
+    /// traffic, 20 frames at 10 Hz, on the xWR1843-like board with an elevated TX (or the 4D
+    /// imaging board with `--radar imaging`): dense radar mapping's scenes. Ego pose and
+    /// velocity in truth.json.
     Drive,
+    /// The drive preset's vehicle in a road tunnel (issue #21): walls 3.5–5 m either side up to
+    /// a ceiling 4.5–5.5 m over the road, both densely scattering, one or two other cars.
+    Tunnel,
+    /// The drive preset's vehicle crossing an open parking area (issue #21): rows of parked
+    /// cars either side of the lane, lamp posts, building fronts 18–30 m off, little traffic.
+    ParkingArea,
     /// A calibration capture (TI's procedure, Metamoran §V): a corner reflector on a thin
     /// mast 5 m away on boresight at the radar's height, over the ground and nothing else.
     Corner,
@@ -44,6 +51,17 @@ pub const CORNER_RANGE_M: f64 = 5.0;
 pub const CORNER_RCS_M2: f64 = 10.0;
 
 impl Preset {
+    /// The moving-platform environment of a mapping preset (`None` for the depth presets).
+    pub fn environment(self) -> Option<crate::drive::Environment> {
+        use crate::drive::Environment;
+        match self {
+            Preset::Drive => Some(Environment::Street),
+            Preset::Tunnel => Some(Environment::Tunnel),
+            Preset::ParkingArea => Some(Environment::ParkingArea),
+            _ => None,
+        }
+    }
+
     /// Name used in bundle names.
     pub fn name(self) -> &'static str {
         match self {
@@ -53,6 +71,8 @@ impl Preset {
             Preset::Perimeter => "perimeter",
             Preset::Crossing => "crossing",
             Preset::Drive => "drive",
+            Preset::Tunnel => "tunnel",
+            Preset::ParkingArea => "parking-area",
             Preset::Corner => "corner",
         }
     }
@@ -261,6 +281,8 @@ fn interest(
             | Preset::Perimeter
             | Preset::Crossing
             | Preset::Drive
+            | Preset::Tunnel
+            | Preset::ParkingArea
             | Preset::Corner,
             _,
         ) => rng.random_range(3.0..60.0),

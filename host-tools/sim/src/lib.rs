@@ -206,8 +206,8 @@ pub fn simulate_scene_with(
         renumber: renumbered,
     } = variant.into();
     let mut rng = Pcg64Mcg::seed_from_u64(scene_seed(seed, index));
-    if preset == Preset::Drive {
-        let mut scene = drive_scene(&mut rng, kind);
+    if let Some(env) = preset.environment() {
+        let mut scene = drive_scene(&mut rng, kind, env);
         if renumbered {
             renumber(
                 &mut scene.shots,
@@ -341,12 +341,15 @@ fn film(
 }
 
 /// The drive preset: the street moved into the radar's frame at each frame's pose.
-fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind) -> SimulatedScene {
+fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> SimulatedScene {
     let (mut config, tx_elevation) = radar::drive_config(kind);
     config.frames = u32::from(drive::FRAMES);
     config.frame_period_s = drive::FRAME_PERIOD_S;
-    let world = drive::street(rng);
-    let ground = drive::ground(rng, 9.0);
+    let drive::World {
+        objects: world,
+        ground,
+        ceiling,
+    } = drive::world(env, rng);
     let plan = drive::Drive::draw(rng);
     let poses = plan.poses(drive::FRAMES, drive::FRAME_PERIOD_S);
     let camera = camera_config();
@@ -381,6 +384,14 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind) -> SimulatedScene {
         let ground_here = drive::in_radar_frame(&ground_object, pose, *radar_v);
         let mut all = objects.clone();
         all.push(ground_here);
+        if let Some((_, scatterers)) = &ceiling {
+            let ceiling_object = object::SceneObject {
+                class: "ceiling",
+                scatterers: scatterers.clone(),
+                ..ground_object.clone()
+            };
+            all.push(drive::in_radar_frame(&ceiling_object, pose, *radar_v));
+        }
         let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
         adc.extend(signal::synthesize(&config, &echoes, &elevation, None, rng));
         let (shot, truth_objects) = film(&objects, &model, &camera, Difficulty::Standard, rng);
@@ -388,10 +399,15 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind) -> SimulatedScene {
             let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
             let origin = nalgebra::Vector3::zeros();
             let ground = (d[1] > 1e-9).then(|| GROUND_Y / d[1]);
+            let roof = ceiling
+                .as_ref()
+                .filter(|_| d[1] < -1e-9)
+                .map(|(h, _)| (GROUND_Y - h) / d[1]);
             objects
                 .iter()
                 .filter_map(|o| o.shape.intersect(&origin, &dir))
                 .chain(ground)
+                .chain(roof)
                 .min_by(f64::total_cmp)
         }));
         frames.push(TruthFrame {

@@ -91,6 +91,11 @@ pub enum PresetArg {
     /// The radar on a vehicle driving down a street, 20 frames at 10 Hz, with an elevated TX:
     /// dense radar mapping's scenes.
     Drive,
+    /// The drive preset's vehicle in a road tunnel: close walls and a ceiling (issue #21).
+    Tunnel,
+    /// The drive preset's vehicle crossing an open parking area: rows of parked cars, lamp
+    /// posts, building fronts far off (issue #21).
+    ParkingArea,
     /// A calibration capture: a corner reflector at 5 m on boresight (for `calibrate`).
     Corner,
 }
@@ -106,6 +111,8 @@ impl PresetArg {
             PresetArg::Perimeter => Preset::Perimeter,
             PresetArg::Crossing => Preset::Crossing,
             PresetArg::Drive => Preset::Drive,
+            PresetArg::Tunnel => Preset::Tunnel,
+            PresetArg::ParkingArea => Preset::ParkingArea,
             PresetArg::Corner => Preset::Corner,
             PresetArg::Site => return None,
         })
