@@ -115,6 +115,32 @@ fn wall_points(rng: &mut impl Rng, a: [f64; 2], b: [f64; 2]) -> Vec<Scatterer> {
         .collect()
 }
 
+/// A pole at `centre` of (radius, height) m: one strong scatterer (a sign or a lamp's bracket,
+/// 3–15 m²) at a height drawn from `heights` (m over the ground).
+fn pole(
+    rng: &mut impl Rng,
+    centre: [f64; 2],
+    (radius, height): (f64, f64),
+    heights: std::ops::Range<f64>,
+) -> (Shape, Vec<Scatterer>) {
+    let shape = Shape::Cylinder {
+        centre,
+        radius,
+        y_top: GROUND_Y - height,
+        y_bottom: GROUND_Y,
+    };
+    let pts = vec![Scatterer {
+        position: nalgebra::Vector3::new(
+            centre[0],
+            GROUND_Y - rng.random_range(heights),
+            centre[1],
+        ),
+        rcs: rng.random_range(3.0..15.0),
+        phase: rng.random_range(0.0..TAU),
+    }];
+    (shape, pts)
+}
+
 /// The street in the world frame: walls on both sides (a tunnel when the street is narrow),
 /// poles and parked cars along them, and 1–3 moving cars.
 pub fn street(rng: &mut impl Rng) -> Vec<SceneObject> {
@@ -144,17 +170,7 @@ pub fn street(rng: &mut impl Rng) -> Vec<SceneObject> {
     for x in [left + 0.8, right - 0.8] {
         let mut z = rng.random_range(3.0..10.0);
         while z < 85.0 {
-            let shape = Shape::Cylinder {
-                centre: [x, z],
-                radius: 0.12,
-                y_top: GROUND_Y - 6.0,
-                y_bottom: GROUND_Y,
-            };
-            let pts = vec![Scatterer {
-                position: nalgebra::Vector3::new(x, GROUND_Y - rng.random_range(0.5..2.5), z),
-                rcs: rng.random_range(3.0..15.0),
-                phase: rng.random_range(0.0..TAU),
-            }];
+            let (shape, pts) = pole(rng, [x, z], (0.12, 6.0), 0.5..2.5);
             push("pole", shape, [0.0; 2], pts);
             z += rng.random_range(8.0..16.0);
         }
@@ -372,17 +388,7 @@ pub fn parking_area(rng: &mut impl Rng) -> World {
         let mut z = rng.random_range(3.0..12.0);
         while z < 85.0 {
             let x = side * 7.2;
-            let shape = Shape::Cylinder {
-                centre: [x, z],
-                radius: 0.1,
-                y_top: GROUND_Y - 8.0,
-                y_bottom: GROUND_Y,
-            };
-            let pts = vec![Scatterer {
-                position: nalgebra::Vector3::new(x, GROUND_Y - rng.random_range(0.5..3.0), z),
-                rcs: rng.random_range(3.0..15.0),
-                phase: rng.random_range(0.0..TAU),
-            }];
+            let (shape, pts) = pole(rng, [x, z], (0.1, 8.0), 0.5..3.0);
             objects.push(("pole", shape, [0.0; 2], pts));
             z += rng.random_range(15.0..25.0);
         }
