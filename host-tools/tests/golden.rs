@@ -30,15 +30,29 @@ fn volatile(dir: &Path) -> BTreeMap<String, Vec<String>> {
     keys
 }
 
-/// `text` without the lines that hold one of `keys` (pretty JSON: one scalar key a line).
+/// `text` without the lines that hold one of `keys` (pretty JSON: one scalar key a line, or an
+/// object whose lines run to the `}` at the key's indentation).
 fn without(text: &str, keys: &[String]) -> String {
-    text.lines()
-        .filter(|l| {
-            let l = l.trim_start();
-            !keys.iter().any(|k| l.starts_with(&format!("\"{k}\":")))
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+    let mut out = Vec::new();
+    let mut skipping: Option<usize> = None;
+    for l in text.lines() {
+        let body = l.trim_start();
+        let indent = l.len() - body.len();
+        if let Some(at) = skipping {
+            if indent == at && body.starts_with('}') {
+                skipping = None;
+            }
+            continue;
+        }
+        if keys.iter().any(|k| body.starts_with(&format!("\"{k}\":"))) {
+            if body.ends_with('{') {
+                skipping = Some(indent);
+            }
+            continue;
+        }
+        out.push(l);
+    }
+    out.join("\n")
 }
 
 #[test]

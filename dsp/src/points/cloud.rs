@@ -20,7 +20,11 @@ use crate::fixed::CQ15;
 use crate::range::RangeCube;
 
 use core::fmt;
-use libm::{cosf, log10f, sinf};
+use libm::{cosf, fabsf, log10f, sinf};
+
+/// How close to the unambiguous speed a static point's radial velocity may come before its
+/// measurement is unfolded towards the prior, m/s (Doppler noise could fold it already).
+pub const FOLD_MARGIN_MPS: f32 = 0.5;
 
 /// How a frame becomes points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,10 +41,11 @@ pub struct CloudOptions {
     pub dynamic_range_db: f32,
     /// The radar's velocity `[v_x, v_z]` (m/s, radar frame) expected this frame, for a board
     /// whose unambiguous velocity a static world can exceed (a 4D imaging board's twelve TX
-    /// slots give ±5 m/s). Each direction's radial velocity is then unfolded to the alias
-    /// nearest a static point's at that velocity, and its channels are compensated for the
-    /// unfolded Doppler's TDM phase before its azimuth and elevation are found. `None`: as
-    /// measured, within ±[`RadarConfig::max_velocity`].
+    /// slots give ±5 m/s). In directions where a static point's radial velocity comes within
+    /// [`FOLD_MARGIN_MPS`] of the unambiguous speed or beyond, each direction's radial velocity
+    /// is unfolded to the alias nearest a static point's, and its channels are compensated for
+    /// the unfolded Doppler's TDM phase before its azimuth and elevation are found; elsewhere
+    /// it stands as measured. `None`: as measured, within ±[`RadarConfig::max_velocity`].
     pub velocity_prior: Option<[f32; 2]>,
 }
 
@@ -209,7 +214,13 @@ pub fn frame_points(
                 let folded = config.doppler_to_velocity(signed + off, nd);
                 let wanted = options.velocity_prior.map_or(0, |v| {
                     let static_vr = -(sinf(dir.azimuth) * v[0] + cosf(dir.azimuth) * v[1]);
-                    libm::roundf((static_vr - folded) / span) as i32
+                    // Where a static point does not fold, the measurement stands: a mover's
+                    // alias cannot be known.
+                    if fabsf(static_vr) <= 0.5 * span - FOLD_MARGIN_MPS {
+                        0
+                    } else {
+                        libm::roundf((static_vr - folded) / span) as i32
+                    }
                 });
                 (folded, wanted)
             };
