@@ -169,18 +169,41 @@ fn map_json_has_the_issue_keys_and_writes_images_and_clouds() {
         [
             "density_growth_factor",
             "ego_velocity_error_mps",
+            "lidar_pixels",
             "mae_m",
+            "network_density_growth_factor",
             "network_fps",
+            "own_pixels",
             "point_accuracy_m",
             "rmse_m"
         ]
     );
-    for errors in [&v["mae_m"], &v["rmse_m"], &v["point_accuracy_m"]] {
+    for errors in [
+        &v["mae_m"],
+        &v["rmse_m"],
+        &v["point_accuracy_m"],
+        &v["lidar_pixels"]["mae_m"],
+        &v["own_pixels"]["rmse_m"],
+    ] {
         assert_eq!(keys(errors), ["frame", "ip_basic", "network", "submap"]);
         assert!(errors["submap"].as_f64().unwrap() > 0.0);
         assert_eq!(errors["network"].is_number(), network, "{v}");
     }
+    // Over every lidar pixel an empty pixel counts as 0 m: the frame's few returns leave most
+    // of the lidar's depth as error, where IP-Basic's filled image does not.
+    let lidar_mae = &v["lidar_pixels"]["mae_m"];
+    let frame = lidar_mae["frame"].as_f64().unwrap();
+    assert!(
+        frame > 1.3 * lidar_mae["ip_basic"].as_f64().unwrap()
+            && frame > 2.0 * v["mae_m"]["frame"].as_f64().unwrap(),
+        "{v}"
+    );
     assert_eq!(v["network_fps"].is_number(), network, "{v}");
+    assert_eq!(
+        v["network_density_growth_factor"].is_number(),
+        network,
+        "{v}"
+    );
     assert!(v["ego_velocity_error_mps"].as_f64().unwrap() < 0.2, "{v}");
     let mut images = vec!["frame.png", "submap.png", "ip_basic.png", "lidar.png"];
     let mut clouds = vec!["submap.ply"];

@@ -1,6 +1,12 @@
 //! The mapping report (the paper's Tables 1–3 for one bundle): ego-velocity error, density
 //! growth, MAE and RMSE of each depth image against the lidar truth, each image's point
-//! accuracy (median distance to the nearest lidar point), and the network's frame rate. Its JSON is what `metamoran map --json` prints.
+//! accuracy (median distance to the nearest lidar point), and the network's frame rate. Its
+//! JSON is what `metamoran map --json` prints.
+//!
+//! Errors are taken over three pixel sets ([`Pixels`]): where the image and the lidar both have
+//! a depth (`mae_m`, `rmse_m`), every lidar pixel (KITTI's depth-completion convention: an empty
+//! image pixel counts as 0 m), and every pixel of the image's own (a return where the lidar has
+//! none is scored against the lidar's range limit).
 
 use super::depth::{self, Completion, DepthImages};
 use super::odometry::{self, Odometry};
@@ -14,8 +20,8 @@ use std::time::Instant;
 /// Timed inferences behind [`MapReport::network_fps`] (after one untimed).
 pub const FPS_RUNS: u32 = 5;
 
-/// One error per depth image of the last frame, each over the pixels where it and the lidar
-/// image both have a depth, m; `null` where they share none (or, for `network`, without one).
+/// One figure per depth image of the last frame, m; `null` where its pixel set is empty (or,
+/// for `network`, without a network).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ImageErrors {
     /// The radar frame's depth image.
@@ -35,14 +41,24 @@ pub struct MapReport {
     pub ego_velocity_error_mps: Option<f64>,
     /// Filled pixels of the last frame's submap over those of the frame alone.
     pub density_growth_factor: Option<f64>,
-    /// Mean absolute depth error against the lidar truth, m (needs `lidar/`).
+    /// Filled pixels of the network's image over those of the frame alone (the paper's "more
+    /// than 50×" claim), or `null` without a network.
+    pub network_density_growth_factor: Option<f64>,
+    /// Mean absolute depth error against the lidar truth over the pixels both fill
+    /// ([`Pixels::Both`]), m (needs `lidar/`).
     pub mae_m: Option<ImageErrors>,
-    /// Root-mean-square depth error against the lidar truth, m.
+    /// Root-mean-square depth error against the lidar truth over the same pixels, m.
     pub rmse_m: Option<ImageErrors>,
     /// Point accuracy (the paper's): the median distance from each image's points (its
     /// pixels' centre rays at their ranges) to the nearest lidar point, m; distances over
     /// [`ACCURACY_CAP_M`] count as that.
     pub point_accuracy_m: Option<ImageErrors>,
+    /// MAE and RMSE over every pixel the lidar image fills, an empty image pixel counting as
+    /// a depth of 0 m ([`Pixels::Lidar`]).
+    pub lidar_pixels: Option<PixelErrors>,
+    /// MAE and RMSE over every pixel the image fills, a pixel the lidar leaves empty scored
+    /// against its range limit ([`Pixels::Own`]).
+    pub own_pixels: Option<PixelErrors>,
     /// Network inferences per second on this machine (mean of [`FPS_RUNS`] on the last
     /// submap), or `null` without a network.
     pub network_fps: Option<f64>,
@@ -114,14 +130,56 @@ pub fn accuracy(images: &DepthImages) -> Option<ImageErrors> {
     })
 }
 
-/// (MAE, RMSE) of `image` against `truth` over the pixels where both have a depth; `None`
-/// without overlap.
-pub fn image_errors(image: &[f32], truth: &[f32]) -> Option<(f64, f64)> {
+/// The pixels a depth image's error is taken over.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pixels {
+    /// Where the image and the lidar image both have a depth: how right the image is where it
+    /// says something.
+    Both,
+    /// Every pixel the lidar fills; an empty image pixel counts as 0 m, so its error is the
+    /// lidar's depth (KITTI's depth-completion convention): coverage and accuracy in one.
+    Lidar,
+    /// Every pixel the image fills; where the lidar has no return within its range limit
+    /// ([`metamoran_bundle::lidar::RANGE_M`]) the image is scored against that limit, so a
+    /// return where there is nothing near is an error.
+    Own,
+}
+
+/// MAE and RMSE of each depth image over one [`Pixels`] set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct PixelErrors {
+    /// Mean absolute error, m.
+    pub mae_m: ImageErrors,
+    /// Root-mean-square error, m.
+    pub rmse_m: ImageErrors,
+}
+
+/// (MAE, RMSE) of `image` against `truth` (row-major ranges, m, 0 = empty) over `pixels`;
+/// `None` where the set is empty. O(pixels).
+///
+/// ```
+/// use metamoran_map::report::{Pixels, image_errors};
+/// let image = [10.0, 0.0, 30.0, 0.0];
+/// let lidar = [11.0, 20.0, 0.0, 0.0];
+/// assert_eq!(image_errors(&image, &lidar, Pixels::Both), Some((1.0, 1.0)));
+/// // The empty second pixel counts as 0 m: errors 1 and 20.
+/// assert_eq!(image_errors(&image, &lidar, Pixels::Lidar).unwrap().0, 10.5);
+/// // The third pixel has no lidar return within 80 m: errors 1 and 50.
+/// assert_eq!(image_errors(&image, &lidar, Pixels::Own).unwrap().0, 25.5);
+/// ```
+pub fn image_errors(image: &[f32], truth: &[f32], pixels: Pixels) -> Option<(f64, f64)> {
+    let limit = metamoran_bundle::lidar::RANGE_M;
     let d: Vec<f64> = image
         .iter()
         .zip(truth)
-        .filter(|&(&a, &b)| a > 0.0 && b > 0.0)
-        .map(|(&a, &b)| f64::from(a) - f64::from(b))
+        .filter_map(|(&a, &b)| {
+            let (a, b) = (f64::from(a), f64::from(b));
+            match pixels {
+                Pixels::Both => (a > 0.0 && b > 0.0).then_some(a - b),
+                Pixels::Lidar => (b > 0.0).then_some(a.max(0.0) - b),
+                Pixels::Own => (a > 0.0).then_some(a - if b > 0.0 { b } else { limit }),
+            }
+        })
         .collect();
     (!d.is_empty()).then(|| {
         let n = d.len() as f64;
@@ -132,11 +190,11 @@ pub fn image_errors(image: &[f32], truth: &[f32]) -> Option<(f64, f64)> {
     })
 }
 
-/// (MAE, RMSE) of each image against the lidar image, if there is one.
-pub fn errors(images: &DepthImages) -> Option<(ImageErrors, ImageErrors)> {
+/// (MAE, RMSE) of each image against the lidar image over `pixels`, if there is a lidar image.
+pub fn errors(images: &DepthImages, pixels: Pixels) -> Option<PixelErrors> {
     let truth = &images.lidar.as_ref()?.range_m;
     let e = |img: Option<&super::cylinder::DepthImage>| {
-        img.and_then(|i| image_errors(&i.range_m, truth))
+        img.and_then(|i| image_errors(&i.range_m, truth, pixels))
     };
     let all = [
         e(Some(&images.frame)),
@@ -150,7 +208,10 @@ pub fn errors(images: &DepthImages) -> Option<(ImageErrors, ImageErrors)> {
         ip_basic: all[2].map(k),
         network: all[3].map(k),
     };
-    Some((pick(|e| e.0), pick(|e| e.1)))
+    Some(PixelErrors {
+        mae_m: pick(|e| e.0),
+        rmse_m: pick(|e| e.1),
+    })
 }
 
 /// Maps the bundle in `dir` (radar on `mount`): odometry, the last frame's depth images (the
@@ -188,15 +249,21 @@ pub fn run_with(
         }
         _ => None,
     };
-    let errors = images.as_ref().and_then(errors);
+    let errors = |pixels| images.as_ref().and_then(|im| errors(im, pixels));
+    let both = errors(Pixels::Both);
     let report = MapReport {
         ego_velocity_error_mps: odometry.ego_velocity_error_mps,
         density_growth_factor: images
             .as_ref()
             .and_then(|im| density_growth(&im.frame, &im.submap)),
-        mae_m: errors.map(|e| e.0),
-        rmse_m: errors.map(|e| e.1),
+        network_density_growth_factor: images
+            .as_ref()
+            .and_then(|im| density_growth(&im.frame, im.network.as_ref()?)),
+        mae_m: both.map(|e| e.mae_m),
+        rmse_m: both.map(|e| e.rmse_m),
         point_accuracy_m: images.as_ref().and_then(accuracy),
+        lidar_pixels: errors(Pixels::Lidar),
+        own_pixels: errors(Pixels::Own),
         network_fps,
     };
     Ok((report, odometry, images))
