@@ -89,6 +89,11 @@ impl Clouds {
         Ok(self.processor.points(&spectra, &self.geometry, &options)?)
     }
 
+    /// The board's antenna array, as the point clouds use it.
+    pub fn geometry(&self) -> &ArrayGeometry {
+        &self.geometry
+    }
+
     /// The span of radial velocity the board measures unambiguously, m/s (twice its largest
     /// unambiguous speed).
     pub fn velocity_span_mps(&self) -> f32 {

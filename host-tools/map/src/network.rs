@@ -1,9 +1,39 @@
-//! The 3D-RadarHR network behind `metamoran map` (`metamoran_vision::RadarHr` through tract): the model
-//! shipped in the vision crate, or another ONNX file. Needs the `onnx` feature; without it,
-//! loading says how to build with it.
+//! The 3D-RadarHR network behind `metamoran map` (`metamoran_vision::RadarHr` through tract): a
+//! model shipped in the vision crate for the bundle's kind of board, or another ONNX file.
+//! Needs the `onnx` feature; without it, loading says how to build with it.
 
 use crate::MapError;
+use crate::cloud::{Clouds, default_options};
+use metamoran_bundle::{Bundle, OpenOptions};
 use std::path::Path;
+
+/// The kind of radar board a bundle was recorded with, as far as the mapping cares: it picks the
+/// shipped network (each was trained on its own board's submaps).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Board {
+    /// An array with at most two elevation rows (the xWR1843-like board: elevation from one
+    /// phase difference).
+    Small,
+    /// A 2D aperture of three or more elevation rows (the 4D imaging board). Its network was
+    /// trained on submaps cut to what is visible ([`crate::cylinder::Visibility::IMAGING_BEAM`]).
+    Imaging,
+}
+
+impl Board {
+    /// The board of the bundle in `dir`, from its antennas' elevations.
+    ///
+    /// # Errors
+    /// [`MapError`] naming the file of a bad bundle or array.
+    pub fn of(dir: &Path) -> Result<Self, MapError> {
+        let bundle = Bundle::open(dir, OpenOptions::default())?;
+        let clouds = Clouds::new(&bundle, default_options())?;
+        Ok(if clouds.geometry().rows().len() > 2 {
+            Self::Imaging
+        } else {
+            Self::Small
+        })
+    }
+}
 
 /// A loaded depth-completion network.
 pub struct CompletionNetwork {
@@ -15,24 +45,25 @@ pub struct CompletionNetwork {
 }
 
 impl CompletionNetwork {
-    /// The ONNX model at `path`, or the shipped one.
+    /// The ONNX model at `path`, or the one shipped for `board`.
     ///
     /// # Errors
     /// [`MapError`] naming the model that cannot be loaded or breaks the contract, or saying how
     /// to build with ONNX support.
-    pub fn load(path: Option<&Path>) -> Result<Self, MapError> {
+    pub fn load(path: Option<&Path>, board: Board) -> Result<Self, MapError> {
         #[cfg(feature = "onnx")]
         {
-            let inner = match path {
-                Some(p) => metamoran_vision::RadarHr::load(p),
-                None => metamoran_vision::RadarHr::shipped(),
+            let inner = match (path, board) {
+                (Some(p), _) => metamoran_vision::RadarHr::load(p),
+                (None, Board::Small) => metamoran_vision::RadarHr::shipped(),
+                (None, Board::Imaging) => metamoran_vision::RadarHr::shipped_imaging(),
             }
             .map_err(|e| MapError::Network(e.to_string()))?;
             Ok(Self { inner })
         }
         #[cfg(not(feature = "onnx"))]
         {
-            let _ = path;
+            let _ = (path, board);
             Err(MapError::NoOnnx)
         }
     }

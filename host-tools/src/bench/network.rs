@@ -1,8 +1,10 @@
 //! `metamoran bench network`: 3D-RadarHR's time per depth image on this host against IP-Basic's
 //! (the paper's conventional completion) on the same drive submaps, measured in one run, and the
-//! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal.
+//! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal, on
+//! either board's drive scenes.
 
-use metamoran_map::{depth, network::CompletionNetwork, odometry};
+use metamoran_map::network::{Board, CompletionNetwork};
+use metamoran_map::{cylinder, depth, odometry};
 use metamoran_sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
 use serde::Serialize;
 use std::time::Instant;
@@ -15,6 +17,8 @@ pub const REPEATS: u32 = 10;
 /// The report.
 #[derive(Clone, Debug, Serialize)]
 pub struct NetworkReport {
+    /// The board the scenes were seen by (`small` or `imaging`).
+    pub board: &'static str,
     /// Submaps timed.
     pub submaps: usize,
     /// Network, ms per 320 × 80 image.
@@ -43,27 +47,31 @@ fn per_run<E: Into<crate::Error>>(
     Ok(t.elapsed().as_secs_f64() * 1e3 / f64::from(REPEATS))
 }
 
-/// Runs on [`SCENES`] simulated drive scenes with the shipped network.
+/// Runs on [`SCENES`] simulated drive scenes of `board` with the network shipped for it (the
+/// imaging board's submaps cut to what is visible, as `map` does by default).
 ///
 /// # Errors
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
-pub fn run() -> Result<NetworkReport, crate::Error> {
-    let network = CompletionNetwork::load(None)?;
+pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
+    let network = CompletionNetwork::load(None, board)?;
+    let (kind, visibility, name) = match board {
+        Board::Small => (RadarKind::Xwr18xx, None, "small"),
+        Board::Imaging => (
+            RadarKind::Imaging,
+            Some(&cylinder::Visibility::IMAGING_BEAM),
+            "imaging",
+        ),
+    };
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let bundles = simulate(
-        Preset::Drive,
-        RadarKind::Xwr18xx,
-        77,
-        SCENES,
-        dir.path(),
-        &|| (),
-    )?;
+    let bundles = simulate(Preset::Drive, kind, 77, SCENES, dir.path(), &|| ())?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
     for b in &bundles {
         let t = Instant::now();
         let o = odometry::run(b, &MOUNT)?;
         let n = o.tracked.len();
-        let submaps: Vec<_> = (0..n).map(|k| depth::submap(&o, k).1).collect();
+        let submaps: Vec<_> = (0..n)
+            .map(|k| depth::submap_with(&o, k, visibility).1)
+            .collect();
         path_ms += t.elapsed().as_secs_f64() * 1e3;
         frames += n;
         let last = &submaps[n - 1].range_m;
@@ -77,6 +85,7 @@ pub fn run() -> Result<NetworkReport, crate::Error> {
     let (network_ms, ip_basic_ms) = (network_ms / s, ip_basic_ms / s);
     let map_path_ms = path_ms / frames as f64;
     Ok(NetworkReport {
+        board: name,
         submaps: bundles.len(),
         network_ms,
         ip_basic_ms,
@@ -91,8 +100,8 @@ impl std::fmt::Display for NetworkReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "Depth completion of a 320 × 80 drive submap ({} submaps, {} runs each)",
-            self.submaps, REPEATS
+            "Depth completion of a 320 × 80 drive submap, {} board ({} submaps, {} runs each)",
+            self.board, self.submaps, REPEATS
         )?;
         writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
         writeln!(

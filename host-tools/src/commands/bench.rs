@@ -2,12 +2,22 @@
 
 use super::args::Locations;
 use metamoran::bench;
+use metamoran_map::network::Board;
 
 /// Benchmarks, reported as ratios against baselines measured in the same run.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     #[command(subcommand)]
     what: What,
+}
+
+/// `bench network --board`: which board's drive scenes.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum BenchBoard {
+    /// The xWR1843-like board.
+    Small,
+    /// The 4D imaging board.
+    Imaging,
 }
 
 /// The benchmarks.
@@ -32,6 +42,10 @@ enum What {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        /// The board whose drive scenes are mapped: `small` (xWR1843-like) or `imaging` (the
+        /// 4D board: 192 channels per frame, its own network).
+        #[arg(long, value_enum, default_value_t = BenchBoard::Small)]
+        board: BenchBoard,
     },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]
@@ -110,7 +124,13 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         What::FftM7 { json } => super::print(&bench::m7::run(&locations.firmware()?)?, *json),
         What::Search { json } => super::print(&bench::search::run()?, *json),
         What::Dca1000 { json, mbytes } => super::print(&bench::dca1000::run(*mbytes)?, *json),
-        What::Network { json } => super::print(&bench::network::run()?, *json),
+        What::Network { json, board } => {
+            let board = match board {
+                BenchBoard::Small => Board::Small,
+                BenchBoard::Imaging => Board::Imaging,
+            };
+            super::print(&bench::network::run(board)?, *json)
+        }
         What::Site {
             json,
             sensors,

@@ -1,8 +1,9 @@
 //! `metamoran map`: the dense radar map of a moving-platform bundle and its figures.
 
 use super::odometry::figure;
+use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::report::MapReport;
-use metamoran_map::{cylinder, depth, network::CompletionNetwork, report};
+use metamoran_map::{cylinder, depth, report};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -22,7 +23,9 @@ pub struct Args {
     /// Output folder for the depth images and point clouds.
     #[arg(long, default_value = "map-out")]
     out: PathBuf,
-    /// A 3D-RadarHR ONNX model (contract: vision crate docs) instead of the shipped one.
+    /// A 3D-RadarHR ONNX model (contract: vision crate docs) instead of the one shipped for the
+    /// bundle's board (the small board's, or the 4D imaging board's for an array with three or
+    /// more elevation rows).
     #[arg(long, value_name = "MODEL.onnx")]
     model: Option<PathBuf>,
     /// Skip the network (its figures are null); works without the onnx feature.
@@ -32,14 +35,27 @@ pub struct Args {
     /// (OUT/pairs/submap_FFFFFF.png, OUT/pairs/lidar_FFFFFF.png) for train/radarhr.py.
     #[arg(long)]
     training_pairs: bool,
-    /// Cut the frame's and the submap's depth images to what is visible before completion:
-    /// drop a pixel when one within ±6 columns and ±4 rows is nearer by 1 m + 5 % (the
-    /// imaging board's beam; a wall seen past a pole from earlier poses).
-    #[arg(long)]
-    visibility: bool,
+    /// Whether to cut the frame's and the submap's depth images to what is visible before
+    /// completion: drop a pixel when one within ±6 columns and ±4 rows is nearer by 1 m + 5 %
+    /// (the imaging board's beam; a wall seen past a pole from earlier poses). `auto` cuts on
+    /// the imaging board, whose shipped network was trained so, and not on the small board;
+    /// `--visibility` alone is `on`.
+    #[arg(long, value_enum, default_value_t = Cut::Auto, num_args = 0..=1, default_missing_value = "on")]
+    visibility: Cut,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
+}
+
+/// `map --visibility`: whether the depth images are cut to what is visible.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cut {
+    /// On the imaging board, not on the small board.
+    Auto,
+    /// Always.
+    On,
+    /// Never.
+    Off,
 }
 
 /// Runs `metamoran map`.
@@ -47,13 +63,17 @@ pub struct Args {
 /// # Errors
 /// A bad bundle or model, or images that cannot be written.
 pub fn run(args: &Args) -> super::Result {
+    let board = Board::of(&args.bundle)?;
     let network = (!args.no_network)
-        .then(|| CompletionNetwork::load(args.model.as_deref()))
+        .then(|| CompletionNetwork::load(args.model.as_deref(), board))
         .transpose()?;
     let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
-    let visibility = args
-        .visibility
-        .then_some(&cylinder::Visibility::IMAGING_BEAM);
+    let cut = match args.visibility {
+        Cut::Auto => board == Board::Imaging,
+        Cut::On => true,
+        Cut::Off => false,
+    };
+    let visibility = cut.then_some(&cylinder::Visibility::IMAGING_BEAM);
     let (report, odometry, images) = report::run_with(
         &args.bundle,
         &metamoran_sim::drive::MOUNT,
@@ -124,15 +144,17 @@ impl fmt::Display for Figures<'_> {
         let r = self.report;
         writeln!(
             f,
-            "ego-velocity error {} m/s over {} frames; density growth factor {}",
+            "ego-velocity error {} m/s over {} frames; density growth factor {} (submap), {} \
+             (network)",
             figure(r.ego_velocity_error_mps, 3),
             self.frames,
-            figure(r.density_growth_factor, 1)
+            figure(r.density_growth_factor, 1),
+            figure(r.network_density_growth_factor, 1)
         )?;
         if let (Some(m), Some(e), Some(p)) = (r.mae_m, r.rmse_m, r.point_accuracy_m) {
             writeln!(
                 f,
-                "depth image vs lidar   MAE m   RMSE m   point accuracy m"
+                "depth image vs lidar   MAE m   RMSE m   point accuracy m   (MAE, RMSE over the pixels both fill)"
             )?;
             for (name, a, b, c) in [
                 ("radar frame", m.frame, e.frame, p.frame),
@@ -146,6 +168,28 @@ impl fmt::Display for Figures<'_> {
                     figure(a, 2),
                     figure(b, 2),
                     figure(c, 2)
+                )?;
+            }
+        }
+        for (pixels, e) in [
+            ("every lidar pixel (empty = 0 m)", r.lidar_pixels),
+            ("the image's own pixels", r.own_pixels),
+        ] {
+            if let Some(e) = e {
+                let m = e.mae_m;
+                let s = e.rmse_m;
+                writeln!(
+                    f,
+                    "MAE / RMSE m over {pixels}: frame {} / {}, submap {} / {}, IP-Basic {} / {}, \
+                     3D-RadarHR {} / {}",
+                    figure(m.frame, 2),
+                    figure(s.frame, 2),
+                    figure(m.submap, 2),
+                    figure(s.submap, 2),
+                    figure(m.ip_basic, 2),
+                    figure(s.ip_basic, 2),
+                    figure(m.network, 2),
+                    figure(s.network, 2)
                 )?;
             }
         }

@@ -15,8 +15,13 @@ use crate::network::{Plan, input_dims, metadata};
 use std::path::{Path, PathBuf};
 use tract_onnx::prelude::*;
 
-/// The trained network shipped with the crate (ONNX, opset 13, about 0.4 MB).
+/// The trained network shipped with the crate for the small (xWR1843-like) board's drive
+/// submaps (ONNX, opset 13, about 0.4 MB).
 pub const SHIPPED: &[u8] = include_bytes!("../models/radarhr.onnx");
+
+/// The same network trained on the 4D imaging board's submaps, cut to what is visible, over
+/// streets and parking areas (the tunnel held out): `models/radarhr-imaging.onnx`.
+pub const SHIPPED_IMAGING: &[u8] = include_bytes!("../models/radarhr-imaging.onnx");
 
 /// A loaded 3D-RadarHR network, optimized for its fixed input size.
 pub struct RadarHr {
@@ -35,6 +40,17 @@ impl RadarHr {
     /// As [`RadarHr::from_bytes`] (only if the shipped file is damaged).
     pub fn shipped() -> Result<Self, VisionError> {
         Self::from_bytes(Path::new("<shipped models/radarhr.onnx>"), SHIPPED)
+    }
+
+    /// The network shipped for the 4D imaging board ([`SHIPPED_IMAGING`]).
+    ///
+    /// # Errors
+    /// As [`RadarHr::from_bytes`] (only if the shipped file is damaged).
+    pub fn shipped_imaging() -> Result<Self, VisionError> {
+        Self::from_bytes(
+            Path::new("<shipped models/radarhr-imaging.onnx>"),
+            SHIPPED_IMAGING,
+        )
     }
 
     /// Loads the ONNX model at `path`.
