@@ -30,6 +30,21 @@ pub fn default_options() -> CloudOptions {
     }
 }
 
+/// The antenna array of `bundle`'s radar with its antennas' elevations, as the point clouds
+/// use it.
+///
+/// # Errors
+/// [`MapError::Geometry`] naming `scene.toml` if the array cannot give point clouds.
+pub fn geometry(bundle: &Bundle) -> Result<ArrayGeometry, MapError> {
+    let scene = &bundle.scene;
+    ArrayGeometry::new(&scene.radar, &scene.tx_elevation, &scene.rx_elevation).map_err(|source| {
+        MapError::Geometry {
+            scene: bundle.dir().join("scene.toml"),
+            source,
+        }
+    })
+}
+
 /// Turns a bundle's frames into point clouds, one at a time.
 pub struct Clouds {
     processor: FrameProcessor,
@@ -46,11 +61,7 @@ impl Clouds {
     /// [`MapError`] if the array or configuration cannot give point clouds.
     pub fn new(bundle: &Bundle, options: CloudOptions) -> Result<Self, MapError> {
         let scene = &bundle.scene;
-        let geometry = ArrayGeometry::new(&scene.radar, &scene.tx_elevation, &scene.rx_elevation)
-            .map_err(|source| MapError::Geometry {
-            scene: bundle.dir().join("scene.toml"),
-            source,
-        })?;
+        let geometry = geometry(bundle)?;
         let processor = FrameProcessor::new(
             &scene.radar,
             FrameOptions {
@@ -87,11 +98,6 @@ impl Clouds {
             ..self.options
         };
         Ok(self.processor.points(&spectra, &self.geometry, &options)?)
-    }
-
-    /// The board's antenna array, as the point clouds use it.
-    pub fn geometry(&self) -> &ArrayGeometry {
-        &self.geometry
     }
 
     /// The span of radial velocity the board measures unambiguously, m/s (twice its largest

@@ -3,7 +3,7 @@
 //! Needs the `onnx` feature; without it, loading says how to build with it.
 
 use crate::MapError;
-use crate::cloud::{Clouds, default_options};
+use crate::cylinder::Visibility;
 use metamoran_bundle::{Bundle, OpenOptions};
 use std::path::Path;
 
@@ -15,7 +15,7 @@ pub enum Board {
     /// phase difference).
     Small,
     /// A 2D aperture of three or more elevation rows (the 4D imaging board). Its network was
-    /// trained on submaps cut to what is visible ([`crate::cylinder::Visibility::IMAGING_BEAM`]).
+    /// trained on submaps cut to what is visible ([`Visibility::IMAGING_BEAM`]).
     Imaging,
 }
 
@@ -26,12 +26,20 @@ impl Board {
     /// [`MapError`] naming the file of a bad bundle or array.
     pub fn of(dir: &Path) -> Result<Self, MapError> {
         let bundle = Bundle::open(dir, OpenOptions::default())?;
-        let clouds = Clouds::new(&bundle, default_options())?;
-        Ok(if clouds.geometry().rows().len() > 2 {
+        Ok(if crate::cloud::geometry(&bundle)?.rows().len() > 2 {
             Self::Imaging
         } else {
             Self::Small
         })
+    }
+
+    /// The visibility cut this board's shipped network was trained with: the imaging beam's on
+    /// the imaging board, none on the small board.
+    pub fn visibility(self) -> Option<&'static Visibility> {
+        match self {
+            Self::Small => None,
+            Self::Imaging => Some(&Visibility::IMAGING_BEAM),
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! either board's drive scenes.
 
 use metamoran_map::network::{Board, CompletionNetwork};
-use metamoran_map::{cylinder, depth, odometry};
+use metamoran_map::{depth, odometry};
 use metamoran_sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
 use serde::Serialize;
 use std::time::Instant;
@@ -54,14 +54,11 @@ fn per_run<E: Into<crate::Error>>(
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
 pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
     let network = CompletionNetwork::load(None, board)?;
-    let (kind, visibility, name) = match board {
-        Board::Small => (RadarKind::Xwr18xx, None, "small"),
-        Board::Imaging => (
-            RadarKind::Imaging,
-            Some(&cylinder::Visibility::IMAGING_BEAM),
-            "imaging",
-        ),
+    let (kind, name) = match board {
+        Board::Small => (RadarKind::Xwr18xx, "small"),
+        Board::Imaging => (RadarKind::Imaging, "imaging"),
     };
+    let visibility = board.visibility();
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(Preset::Drive, kind, 77, SCENES, dir.path(), &|| ())?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);

@@ -68,12 +68,11 @@ pub fn run(args: &Args) -> super::Result {
         .then(|| CompletionNetwork::load(args.model.as_deref(), board))
         .transpose()?;
     let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
-    let cut = match args.visibility {
-        Cut::Auto => board == Board::Imaging,
-        Cut::On => true,
-        Cut::Off => false,
+    let visibility = match args.visibility {
+        Cut::Auto => board.visibility(),
+        Cut::On => Some(&cylinder::Visibility::IMAGING_BEAM),
+        Cut::Off => None,
     };
-    let visibility = cut.then_some(&cylinder::Visibility::IMAGING_BEAM);
     let (report, odometry, images) = report::run_with(
         &args.bundle,
         &metamoran_sim::drive::MOUNT,
