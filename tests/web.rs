@@ -283,7 +283,12 @@ fn an_operator_logs_in_sees_tracks_move_and_acknowledges_an_alert() {
             tokio::time::sleep(Duration::from_millis(200)).await;
         };
         assert_eq!(width, 640 + 2 * 16);
-        assert!(coloured > 50, "{coloured} coloured pixels of the picked-out object");
+        // Only the picked-out object is drawn in colour (the others grey, the box and label
+        // white, the background dark grey), each of its points as a 3 × 3 block: at least one
+        // block. How many depends on the frame the track was last seen in (a far person has a
+        // handful of points), so the count is not pinned; a drawing that greys or drops the
+        // selected object leaves none.
+        assert!(coloured >= 9, "{coloured} coloured pixels of the picked-out object");
         let shot = c.screenshot().await.unwrap();
         c.close().await.unwrap();
         shot
