@@ -661,3 +661,23 @@ fn a_score_holds_half_decibels_and_the_survival_bit() {
         [255]
     );
 }
+
+#[test]
+fn alternatives_need_a_reported_depth_and_lie_in_front() {
+    let alt = |offset_cm: i16| Alternative {
+        offset_cm,
+        score: Score::new(20.0, true),
+    };
+    let mut r = ObjectResult {
+        instance: 3,
+        depth_mm: 40_000,
+        score: Score::new(30.0, true),
+        others: [alt(-1_250), alt(-4_500)],
+    };
+    // 40 m − 12.5 m; 40 m − 45 m would be behind the radar and is not an alternative.
+    let depths: Vec<f64> = r.alternatives().map(|(d, _)| d).collect();
+    assert_eq!(depths, [27.5]);
+    // A best candidate behind 0 m is clamped to 0 mm: the offsets lost their reference.
+    r.depth_mm = 0;
+    assert_eq!(r.alternatives().count(), 0);
+}

@@ -182,12 +182,17 @@ impl ObjectResult {
         self.depth_mm as f64 / 1000.0
     }
 
-    /// The alternatives there are: depth (m) and score of each.
+    /// The alternatives there are: depth (m) and score of each, those in front of the radar
+    /// (over 0 m) only. None when the answer has no depth (`depth_mm` 0: nothing found, or a best
+    /// candidate at or behind 0 m, which [`m_to_mm`] clamps): their offsets are from a depth the
+    /// wire no longer carries, and reading them from 0 m would invent depths.
     pub fn alternatives(&self) -> impl Iterator<Item = (f64, Score)> + '_ {
+        let anchored = self.depth_mm > 0;
         self.others
             .iter()
-            .filter(|a| a.score.0 > 0)
+            .filter(move |a| anchored && a.score.0 > 0)
             .map(|a| (self.depth_m() + f64::from(a.offset_cm) / 100.0, a.score))
+            .filter(|&(depth_m, _)| depth_m > 0.0)
     }
 }
 
