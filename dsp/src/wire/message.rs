@@ -183,9 +183,10 @@ impl ObjectResult {
     }
 
     /// The alternatives there are: depth (m) and score of each, those in front of the radar
-    /// (over 0 m) only. None when the answer has no depth (`depth_mm` 0: nothing found, or a best
-    /// candidate at or behind 0 m, which [`m_to_mm`] clamps): their offsets are from a depth the
-    /// wire no longer carries, and reading them from 0 m would invent depths.
+    /// (over 0 m) only. None when the answer has no depth (`depth_mm` 0: nothing found, a best
+    /// candidate at or behind 0 m, which [`m_to_mm`] clamps, or one the host withdrew): their
+    /// offsets are from a depth the answer no longer carries, and reading them from 0 m would
+    /// invent depths.
     pub fn alternatives(&self) -> impl Iterator<Item = (f64, Score)> + '_ {
         let anchored = self.depth_mm > 0;
         self.others
