@@ -415,7 +415,7 @@ impl MovingScene {
             Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
         let mut profiles = vec![0u32; profile_words(hint.contour.points().len(), self.m)];
         let mut scores = vec![0.0f32; self.m];
-        let search = coarse_to_fine(
+        let mut search = coarse_to_fine(
             &spectra,
             &self.edge.geometry(),
             &hint.contour,
@@ -425,6 +425,23 @@ impl MovingScene {
             &mut scores,
         )
         .ok()?;
+        // A candidate whose energy is another direction's reflection is withdrawn (its peak
+        // zeroed): the wire's ranking then puts the next one first and measures the others
+        // from it, as for any candidate without a peak.
+        let bin_m = self.edge.geometry().bin_m;
+        let elsewhere = |depth_m: f32| {
+            let bin = (depth_m / bin_m).round().max(0.0) as usize;
+            self.reflects_elsewhere(focus.q, bin, hint.span)
+        };
+        if search.peak > 0.0 && elsewhere(search.depth_m) {
+            search.peak = 0.0;
+        }
+        for o in &mut search.others {
+            if o.peak > 0.0 && elsewhere(o.depth_m) {
+                o.peak = 0.0;
+            }
+        }
+        let found = search.peak > 0.0 || search.others.iter().any(|o| o.peak > 0.0);
         // Not measured here (every candidate survives): a mover's direction is checked by
         // `reflects_elsewhere` instead.
         let mut result = ObjectReport {
@@ -435,19 +452,7 @@ impl MovingScene {
             survival: Default::default(),
         }
         .to_wire();
-        let bin_m = self.edge.geometry().bin_m as f64;
-        let elsewhere = |mm: u32| {
-            let bin = (mm as f64 / 1000.0 / bin_m).round() as usize;
-            self.reflects_elsewhere(focus.q, bin, hint.span)
-        };
-        let depth_m = result.depth_m();
-        for other in &mut result.others {
-            let depth = depth_m + f64::from(other.offset_cm) / 100.0;
-            if other.score.0 > 0 && elsewhere((depth * 1000.0).round() as u32) {
-                *other = Default::default();
-            }
-        }
-        if elsewhere(result.depth_mm) {
+        if !found {
             result.depth_mm = 0;
         }
         Some(result)
