@@ -20,6 +20,7 @@ import sys
 import numpy as np
 
 FAR_SPREAD, NEAR_SPREAD, NO_RIVAL_MARGIN, VAGUE, MIN_DOPPLER_DB = 0.05, 0.1, 8.0, 3.0, 20.0
+ROWS_OFF = 3.0
 KNOTS = [(0.0, 0.3), (10.0, 0.6), (30.0, 6.75), (50.0, 19.4)]
 
 
@@ -38,12 +39,14 @@ def mono(ev, d):
 
 
 def height(ev, d):
-    h = ev.get("height_m")
+    h = ev.get("height")
     if h is None:
         return 0.0
-    near, far = h
+    near, far, rows = h["near_m"], h["far_m"], h["rows"]
+    # The far bound is off by a pixel row at least (HeightCue::spreads).
+    far_spread = max(FAR_SPREAD, 1.0 / max(rows - ROWS_OFF, 1.0))
     if d > far:
-        return -math.log(d / far) / FAR_SPREAD
+        return -math.log(d / far) / far_spread
     if d < near:
         return -math.log(near / max(d, 1e-3)) / NEAR_SPREAD
     return 0.0
@@ -73,14 +76,14 @@ def judge(ev, beta, bonus=0.0, side_lobe=0.0):
     )
     rest = sum(math.exp(s - best) for s, _ in scored) - same
     margin = min(math.log(same / rest), NO_RIVAL_MARGIN) if rest > 0 else NO_RIVAL_MARGIN
-    h = ev.get("height_m")
+    h = ev.get("height")
     feats = [
         chosen["over_floor_db"],
         margin,
         mono(ev, chosen["depth_m"]),
         height(ev, chosen["depth_m"]),
         ev["beamwidth_deg"],
-        min(math.log(h[1] / max(h[0], 1e-3)), VAGUE) if h else VAGUE,
+        min(math.log(h["far_m"] / max(h["near_m"], 1e-3)), VAGUE) if h else VAGUE,
         1.0 if chosen.get("survives", True) else 0.0,
     ]
     return chosen["depth_m"], feats

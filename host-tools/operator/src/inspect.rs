@@ -92,8 +92,8 @@ impl std::fmt::Display for InspectReport {
                     format!("{:.2} m {:.1} dB{lobe}", c.depth_m, c.over_floor_db)
                 })
                 .collect();
-            let window = match o.evidence.height_m {
-                Some((near, far)) => format!("{near:.1}–{far:.1} m"),
+            let window = match o.evidence.height {
+                Some(h) => format!("{:.1}–{:.1} m", h.near_m, h.far_m),
                 None => "none".to_owned(),
             };
             writeln!(

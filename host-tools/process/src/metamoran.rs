@@ -736,9 +736,9 @@ pub fn evidence(
             .chain(doppler.iter().flat_map(|(r, v)| candidates(r, Some(*v))))
             .collect(),
         monocular_m: obj.closest_range(),
-        height_m: obj
+        height: obj
             .extent
-            .and_then(|e| crate::trust::height_bounds_m(&obj.class, &e)),
+            .and_then(|e| crate::trust::HeightCue::of(&obj.class, &e)),
         beamwidth_deg,
         extent_m: crate::camera_points::depth_extent(&obj.class),
     }

@@ -33,10 +33,11 @@ pub const DETECTION_CONFIDENCE: f64 = 0.8;
 /// 2.0 % for 2.4 points of detection.
 pub const MIN_LOG_ODDS: f64 = 0.5;
 /// Relative spread of the height bound's log penalty beyond the far bound (a mask can look no
-/// smaller than the whole object but for segmentation error, already in the bound).
-const FAR_SPREAD: f64 = 0.05;
+/// smaller than the whole object but for segmentation error, already in the bound), for masks
+/// tall enough that a pixel row is a smaller share.
+pub const FAR_SPREAD: f64 = 0.05;
 /// The same below the near bound: an occluded or truncated mask looks smaller, so farther.
-const NEAR_SPREAD: f64 = 0.1;
+pub const NEAR_SPREAD: f64 = 0.1;
 /// Pixel rows a mask's height may be off by (segmentation growing or shrinking it by a pixel
 /// at each end, and a pixel of rasterization).
 pub const ROWS_OFF: f64 = 3.0;
@@ -62,40 +63,95 @@ pub fn class_height_m(class: &str) -> Option<(f64, f64)> {
     }
 }
 
-/// The horizontal ranges (m) at which an object of `class` would look as tall as `extent`:
-/// the class's height range over the mask's slope span, ± [`ROWS_OFF`] pixel rows of
-/// segmentation error.
-/// A mask cut by the image's edge gives only the far bound (near is 0).
-pub fn height_bounds_m(class: &str, extent: &VerticalExtent) -> Option<(f64, f64)> {
-    let (h_lo, h_hi) = class_height_m(class)?;
-    let span = extent.span();
-    if !(span.is_finite() && extent.pitch.is_finite()) || span <= 0.0 {
-        return None;
-    }
-    let near = if extent.clipped {
-        0.0
-    } else {
-        h_lo / (span + ROWS_OFF * extent.pitch)
-    };
-    let far = h_hi / (span - ROWS_OFF * extent.pitch).max(extent.pitch);
-    Some((near, far))
+/// The range the mask's apparent height allows for an object of its class: the class's height
+/// range over the mask's slope span, ± [`ROWS_OFF`] pixel rows of segmentation error, and how
+/// soft those bounds are.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct HeightCue {
+    /// Nearest horizontal range, m (0 for a mask cut by the image's edge: it bounds only the far
+    /// side).
+    pub near_m: f64,
+    /// Farthest horizontal range, m.
+    pub far_m: f64,
+    /// The mask's height, pixel rows.
+    pub rows: f64,
 }
 
-/// Margin around the height bounds of the window the module searches: the height cue's far
-/// bound is off by 8 % at most on our scenes, its near bound only when the mask is occluded.
+impl HeightCue {
+    /// The cue of a mask with vertical `extent` for `class`; `None` for classes without a
+    /// height range or an empty extent.
+    pub fn of(class: &str, extent: &VerticalExtent) -> Option<Self> {
+        let (h_lo, h_hi) = class_height_m(class)?;
+        let span = extent.span();
+        if !(span.is_finite() && extent.pitch.is_finite()) || span <= 0.0 || extent.pitch <= 0.0 {
+            return None;
+        }
+        let near_m = if extent.clipped {
+            0.0
+        } else {
+            h_lo / (span + ROWS_OFF * extent.pitch)
+        };
+        let far_m = h_hi / (span - ROWS_OFF * extent.pitch).max(extent.pitch);
+        Some(Self {
+            near_m,
+            far_m,
+            rows: span / extent.pitch,
+        })
+    }
+
+    /// Relative spreads of the log penalty beyond the far and the near bound. Segmentation
+    /// grows a mask by whole pixels, so one row more is the least the far bound can be off by:
+    /// a mask a few rows tall (a car at 200 m) bounds its range only loosely from above, and a
+    /// penalty of [`FAR_SPREAD`] per 5 % would rule out the truth after one row of growth too
+    /// many. The near side keeps [`NEAR_SPREAD`]: widening it lets nearer clutter crowd the
+    /// module's few candidates and Doppler bins (measured: it lost more movers than it found).
+    pub fn spreads(&self) -> (f64, f64) {
+        (
+            FAR_SPREAD.max(1.0 / (self.rows - ROWS_OFF).max(1.0)),
+            NEAR_SPREAD,
+        )
+    }
+
+    /// Log-prior of horizontal range `d` m: 0 inside the bounds, the log-distance beyond over
+    /// the bound's spread.
+    pub fn log_prior(&self, d: f64) -> f64 {
+        let (far_spread, near_spread) = self.spreads();
+        if d > self.far_m {
+            -(d / self.far_m).ln() / far_spread
+        } else if d < self.near_m {
+            -(self.near_m / d.max(1e-3)).ln() / near_spread
+        } else {
+            0.0
+        }
+    }
+
+    /// The ranges (m) the module searches: [`WINDOW_MARGIN`] around the bounds of a tall
+    /// mask, and beyond the far bound as far as the same log-prior (4.5 nats) for a smaller one
+    /// (the margin raised to the spread's ratio to [`FAR_SPREAD`]): 2.1× for a mask 9 rows
+    /// tall, the whole range for 4 rows or fewer.
+    pub fn window_m(&self) -> (f64, f64) {
+        let (far_spread, _) = self.spreads();
+        (
+            self.near_m * WINDOW_MARGIN.0,
+            self.far_m * WINDOW_MARGIN.1.powf(far_spread / FAR_SPREAD),
+        )
+    }
+}
+
+/// Margin around a tall mask's height bounds of the window the module searches: the far bound
+/// is off by 8 % at most on our scenes, the near bound only when the mask is occluded (clutter
+/// in front of an object would crowd the module's few candidates, so the near side is not
+/// widened further).
 pub const WINDOW_MARGIN: (f64, f64) = (0.8, 1.25);
 
-/// The ranges (m) the module searches for `obj`: its height bounds widened by
-/// [`WINDOW_MARGIN`]; 0 where unknown (the module then searches from its monocular prior to
-/// its maximum range).
+/// The ranges (m) the module searches for `obj`: [`HeightCue::window_m`]; 0 where unknown
+/// (the module then searches from its monocular prior to its maximum range).
 pub fn search_window_m(obj: &CameraObject) -> (f32, f32) {
     obj.extent
-        .and_then(|e| height_bounds_m(&obj.class, &e))
-        .map_or((0.0, 0.0), |(near, far)| {
-            (
-                (near * WINDOW_MARGIN.0) as f32,
-                (far * WINDOW_MARGIN.1) as f32,
-            )
+        .and_then(|e| HeightCue::of(&obj.class, &e))
+        .map_or((0.0, 0.0), |cue| {
+            let (near, far) = cue.window_m();
+            (near as f32, far as f32)
         })
 }
 
@@ -137,8 +193,8 @@ pub struct Evidence {
     pub candidates: Vec<Candidate>,
     /// Monocular range of the closest point, m.
     pub monocular_m: Option<f64>,
-    /// Range bounds from the mask's height, m.
-    pub height_m: Option<(f64, f64)>,
+    /// What the mask's height says about the range.
+    pub height: Option<HeightCue>,
     /// The radar's azimuth beamwidth, degrees: a wide beam holds more clutter in an object's
     /// span, so the same evidence is worth less.
     pub beamwidth_deg: f64,
@@ -200,13 +256,9 @@ impl Evidence {
         })
     }
 
-    /// Height log-prior of depth `d` m: 0 inside the bounds, log-distance beyond.
+    /// Height log-prior of depth `d` m ([`HeightCue::log_prior`]; 0 without the cue).
     fn height(&self, d: f64) -> f64 {
-        match self.height_m {
-            Some((_, far)) if d > far => -(d / far).ln() / FAR_SPREAD,
-            Some((near, _)) if d < near => -(near / d.max(1e-3)).ln() / NEAR_SPREAD,
-            _ => 0.0,
-        }
+        self.height.map_or(0.0, |h| h.log_prior(d))
     }
 
     /// Radar score plus camera log-prior of candidate `c`.
@@ -256,8 +308,8 @@ impl Evidence {
             height: self.height(chosen.depth_m),
             beamwidth_deg: self.beamwidth_deg,
             vagueness: self
-                .height_m
-                .map_or(VAGUE, |(near, far)| (far / near.max(1e-3)).ln().min(VAGUE)),
+                .height
+                .map_or(VAGUE, |h| (h.far_m / h.near_m.max(1e-3)).ln().min(VAGUE)),
             survives: f64::from(u8::from(chosen.survives)),
         };
         Some(Verdict {
@@ -311,15 +363,20 @@ mod tests {
     #[test]
     fn height_bounds_follow_the_closed_form() {
         let e = person_at_40m();
-        let (near, far) = height_bounds_m("person", &e).unwrap();
+        let HeightCue {
+            near_m: near,
+            far_m: far,
+            rows,
+        } = HeightCue::of("person", &e).unwrap();
         let span = 1.7 / 40.0;
         assert!((near - 1.5 / (span + 3e-3)).abs() < 1e-9, "{near}");
         assert!((far - 1.9 / (span - 3e-3)).abs() < 1e-9, "{far}");
         assert!(near < 40.0 && far > 40.0);
+        assert!((rows - 1.7 / 40.0 / 1e-3).abs() < 1e-9, "{rows}");
         // A mask cut by the image's edge bounds only the far side.
         let cut = VerticalExtent { clipped: true, ..e };
-        assert_eq!(height_bounds_m("person", &cut).unwrap().0, 0.0);
-        assert_eq!(height_bounds_m("tree", &e), None);
+        assert_eq!(HeightCue::of("person", &cut).unwrap().near_m, 0.0);
+        assert_eq!(HeightCue::of("tree", &e), None);
     }
 
     #[test]
@@ -334,6 +391,52 @@ mod tests {
         assert!((monocular_error_m(300.0) - (19.4 + 0.6325 * 250.0)).abs() < 1e-9);
     }
 
+    /// The cue of a mask 100 rows tall with these bounds.
+    fn cue(near_m: f64, far_m: f64) -> Option<HeightCue> {
+        Some(HeightCue {
+            near_m,
+            far_m,
+            rows: 100.0,
+        })
+    }
+
+    #[test]
+    fn a_mask_of_a_few_rows_bounds_the_range_loosely() {
+        // A car 1.5 m tall at 220 m seen at 2 mrad per row is 3.4 rows; grown by two rows at
+        // each end, its mask is 9 rows and its far bound 1.6 m / 6 rows = 133 m.
+        let pitch = 2e-3;
+        let grown = VerticalExtent {
+            top: 0.0,
+            bottom: 8.0 * pitch,
+            pitch,
+            clipped: false,
+        };
+        let small = HeightCue::of("car", &grown).unwrap();
+        assert!(
+            (small.far_m - 1.6 / (6.0 * pitch)).abs() < 1e-9,
+            "{small:?}"
+        );
+        // Its window reaches the truth; a tall mask's is WINDOW_MARGIN, as before the cue knew
+        // its rows.
+        assert!(small.window_m().1 > 220.0, "{:?}", small.window_m());
+        let tall = cue(30.0, 40.0).unwrap();
+        assert_eq!(tall.window_m(), (30.0 * 0.8, 40.0 * 1.25));
+        // The window's edge costs the small mask what it costs the tall one.
+        let edge = |c: &HeightCue| c.log_prior(c.window_m().1 * (1.0 + 1e-9));
+        assert!(
+            (edge(&small) - edge(&tall)).abs() < 1e-6,
+            "{}",
+            edge(&small)
+        );
+        // 31 % beyond the far bound costs the small mask what 8.5 % costs the tall one.
+        let beyond = small.log_prior(1.313 * small.far_m);
+        assert!(
+            (beyond - tall.log_prior(1.085 * 40.0)).abs() < 0.1,
+            "{beyond}"
+        );
+        assert!(beyond < -1.0);
+    }
+
     fn candidate(depth_m: f64, over_floor_db: f64) -> Candidate {
         Candidate {
             depth_m,
@@ -345,11 +448,11 @@ mod tests {
 
     /// Issue #17's example: a sign at 40.6 m whose span holds a wall's side-lobe ridge at
     /// 29.4 m that scores higher.
-    fn sign_behind_a_ridge(height_m: Option<(f64, f64)>) -> Evidence {
+    fn sign_behind_a_ridge(height: Option<HeightCue>) -> Evidence {
         Evidence {
             candidates: vec![candidate(29.4, 22.5), candidate(40.6, 20.0)],
             monocular_m: Some(34.0),
-            height_m,
+            height,
             beamwidth_deg: 1.33,
             extent_m: 1.5,
         }
@@ -358,7 +461,7 @@ mod tests {
     #[test]
     fn the_mask_height_overrules_a_stronger_ridge_at_the_wrong_range() {
         // A 0.6–0.9 m plate 15 px tall at fy = 1000: 40–60 m.
-        let v = sign_behind_a_ridge(Some((37.0, 62.0))).judge().unwrap();
+        let v = sign_behind_a_ridge(cue(37.0, 62.0)).judge().unwrap();
         assert_eq!(v.depth_m, 40.6);
         assert!(v.features.margin > 1.0 && v.detected(), "{v:?}");
         // Without the height cue, the radar's choice stands but is not trusted: the monocular
@@ -399,7 +502,7 @@ mod tests {
         let e = Evidence {
             candidates: vec![candidate(40.0, 30.0), candidate(52.0, 29.5)],
             monocular_m: Some(46.0),
-            height_m: Some((35.0, 60.0)),
+            height: cue(35.0, 60.0),
             beamwidth_deg: 1.33,
             extent_m: 1.5,
         };
@@ -417,7 +520,7 @@ mod tests {
         let e = Evidence {
             candidates: vec![lobe, candidate(38.0, 30.0)],
             monocular_m: Some(34.0),
-            height_m: Some((25.0, 45.0)),
+            height: cue(25.0, 45.0),
             beamwidth_deg: 14.5,
             extent_m: 6.0,
         };
@@ -449,7 +552,7 @@ mod tests {
                 candidate(80.0, 30.0),
             ],
             monocular_m: None,
-            height_m: Some((60.0, 400.0)),
+            height: cue(60.0, 400.0),
             beamwidth_deg: 1.33,
             extent_m,
         };
@@ -474,7 +577,7 @@ mod tests {
         let e = Evidence {
             candidates: Vec::new(),
             monocular_m: None,
-            height_m: None,
+            height: None,
             beamwidth_deg: 1.33,
             extent_m: 1.5,
         };
