@@ -8,7 +8,7 @@
 use metamoran_bundle::{LiveCapture, Scene};
 use metamoran_dca1000::Receiver;
 use metamoran_dca1000::control::Board;
-use metamoran_dca1000::record::{Incomplete, Recording, record};
+use metamoran_dca1000::record::{Incomplete, Recording, record, record_controlled};
 use std::io::Write;
 use std::net::{IpAddr, SocketAddr};
 use std::path::Path;
@@ -61,28 +61,17 @@ impl Link {
                 self.addr
             )
         })?;
-        let board = match (self.control, self.from) {
+        let timeouts = (self.start, self.idle);
+        let rec = match (self.control, self.from) {
             (true, Some(ip)) => {
                 let local =
                     SocketAddr::new(self.addr.ip(), metamoran_dca1000::command::CONFIG_PORT);
                 let b = Board::new(ip, local, Duration::from_secs(2))
                     .map_err(|e| format!("cannot open the config port on {local}: {e}"))?;
-                b.start()?;
-                Some(b)
+                record_controlled(&b, &mut rx, out, frame_bytes, limit, timeouts, incomplete)?
             }
-            _ => None,
+            _ => record(&mut rx, out, frame_bytes, limit, timeouts, incomplete)?,
         };
-        let rec = record(
-            &mut rx,
-            out,
-            frame_bytes,
-            limit,
-            (self.start, self.idle),
-            incomplete,
-        )?;
-        if let Some(b) = board {
-            b.stop()?;
-        }
         Ok(rec)
     }
 

@@ -3,6 +3,7 @@
 //! lossy stream is never mistaken for a clean one; or, for a consumer that processes the
 //! frames, only the whole ones are written ([`Incomplete::Skip`]).
 
+use crate::control::{Board, ControlError};
 use crate::receive::{Counters, Receiver};
 use std::io::{self, Write};
 use std::time::{Duration, Instant};
@@ -65,4 +66,38 @@ pub fn record(
     out.flush()?;
     r.counters = rx.counters();
     Ok(r)
+}
+
+/// Why a recording with the board under control failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ControlledError {
+    /// The board did not start or stop as asked.
+    #[error(transparent)]
+    Control(#[from] ControlError),
+    /// The socket or the output failed (the board was told to stop all the same).
+    #[error(transparent)]
+    Io(#[from] io::Error),
+}
+
+/// [`record`] between `board`'s start and its stop. The board is stopped however the recording
+/// ends, so a socket or output failure does not leave it streaming into the network.
+///
+/// # Errors
+/// The board does not start; else the recording's error; else the stop's.
+pub fn record_controlled(
+    board: &Board,
+    rx: &mut Receiver,
+    out: &mut impl Write,
+    frame_bytes: usize,
+    limit: Option<u64>,
+    timeouts: (Duration, Duration),
+    incomplete: Incomplete,
+) -> Result<Recording, ControlledError> {
+    board.start()?;
+    let recorded = record(rx, out, frame_bytes, limit, timeouts, incomplete);
+    let stopped = board.stop();
+    let rec = recorded?;
+    stopped?;
+    Ok(rec)
 }

@@ -223,14 +223,17 @@ fn a_real_dca1000_session_replayed_gives_its_adc_data() {
     assert!(pcap::udp_to_port(b"not a pcap", DATA_PORT).is_err());
 }
 
-/// The host configures and starts the (emulated) board over its config port, records the
-/// stream into a `.bin` and stops it: the recording is the file, every command answered in
-/// TI's order.
-#[test]
-fn a_controlled_recording_is_the_file() {
+/// A recording of the test stream with the (emulated) board under control: the result and
+/// the commands the board answered, in order.
+fn controlled(
+    out: &mut impl std::io::Write,
+) -> (
+    Result<metamoran_dca1000::record::Recording, metamoran_dca1000::record::ControlledError>,
+    Vec<Command>,
+) {
     use metamoran_dca1000::control::Board;
     use metamoran_dca1000::emulate::answer_commands;
-    use metamoran_dca1000::record::{Incomplete, record};
+    use metamoran_dca1000::record::{Incomplete, record_controlled};
     use std::sync::Arc;
     use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -256,7 +259,6 @@ fn a_controlled_recording_is_the_file() {
     )
     .unwrap();
     let to = rx.local_addr().unwrap();
-    board.start().unwrap();
     let s = stream();
     let sender = spawn(
         LOCAL.parse().unwrap(),
@@ -266,31 +268,67 @@ fn a_controlled_recording_is_the_file() {
         Impairments::default(),
         PACE,
     );
-    let mut bin = Vec::new();
     let timeouts = (Duration::from_secs(5), Duration::from_millis(300));
-    let rec = record(
+    let rec = record_controlled(
+        &board,
         &mut rx,
-        &mut bin,
+        out,
         FRAME,
         Some(7),
         timeouts,
         Incomplete::ZeroFill,
-    )
-    .unwrap();
-    board.stop().unwrap();
+    );
     sender.join().unwrap().unwrap();
     done.store(true, Ordering::SeqCst);
-    assert_eq!(
-        answering.join().unwrap(),
-        [
-            Command::Connect,
-            Command::ResetFpga,
-            Command::ConfigFpga,
-            Command::ConfigPacket,
-            Command::StartRecord,
-            Command::StopRecord
-        ]
-    );
+    (rec, answering.join().unwrap())
+}
+
+/// Every command of a recording, in TI's order.
+const STARTED_AND_STOPPED: [Command; 6] = [
+    Command::Connect,
+    Command::ResetFpga,
+    Command::ConfigFpga,
+    Command::ConfigPacket,
+    Command::StartRecord,
+    Command::StopRecord,
+];
+
+/// The host configures and starts the (emulated) board over its config port, records the
+/// stream into a `.bin` and stops it: the recording is the file, every command answered in
+/// TI's order.
+#[test]
+fn a_controlled_recording_is_the_file() {
+    let mut bin = Vec::new();
+    let (rec, commands) = controlled(&mut bin);
+    let rec = rec.unwrap();
+    assert_eq!(commands, STARTED_AND_STOPPED);
     assert_eq!((rec.frames, rec.incomplete.len()), (7, 0));
-    assert_eq!(bin, s[..7 * FRAME]);
+    assert_eq!(bin, stream()[..7 * FRAME]);
+}
+
+/// An output that fails mid-recording (a full disk) ends it with that error, and the board is
+/// still told to stop: it does not go on streaming into the network.
+#[test]
+fn a_failed_recording_still_stops_the_board() {
+    struct Full(usize);
+    impl std::io::Write for Full {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.0 < buf.len() {
+                return Err(std::io::ErrorKind::StorageFull.into());
+            }
+            self.0 -= buf.len();
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let (rec, commands) = controlled(&mut Full(2 * FRAME));
+    let err = rec.unwrap_err();
+    assert!(
+        matches!(&err, metamoran_dca1000::record::ControlledError::Io(e)
+            if e.kind() == std::io::ErrorKind::StorageFull),
+        "{err:?}"
+    );
+    assert_eq!(commands, STARTED_AND_STOPPED);
 }
