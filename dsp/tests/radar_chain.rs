@@ -5,7 +5,7 @@ use heapless::Vec as HVec;
 use metamoran_dsp::array::VirtualArray;
 use metamoran_dsp::azimuth::{azimuth_spectrum, beamform};
 use metamoran_dsp::config::{RadarConfig, SPEED_OF_LIGHT, azimuth_bin_to_angle};
-use metamoran_dsp::doppler::{DopplerOptions, magnitude, range_doppler_map};
+use metamoran_dsp::doppler::{DopplerOptions, magnitude, range_doppler_map, range_doppler_rows};
 use metamoran_dsp::fft::Exponent;
 use metamoran_dsp::fixed::CQ15;
 use metamoran_dsp::range::{RangeCube, RangeProcessor};
@@ -152,6 +152,60 @@ fn mover_lands_in_its_range_and_doppler_bin_and_static_is_removed() {
     let map = rd_map(&cube, false);
     let arg = argmax(&map);
     assert_eq!((arg / nd, arg % nd), (90, 0));
+}
+
+/// The host fills the cube's rows and the map's range bins in two halves, one per thread: the
+/// rows `rows_mut` names hold the same bits as `push_chirp` writes, and two parts of
+/// `range_doppler_rows` are the whole map.
+#[test]
+fn rows_and_map_filled_in_parts_are_the_same_bits() {
+    let c = config();
+    let (n, nr) = (c.adc_samples as usize, c.range_fft_len());
+    let frame = synthesize(
+        &c,
+        &[Reflector {
+            range: 12.3,
+            sin_az: 0.2,
+            velocity: 1.7,
+            amplitude: 0.05,
+        }],
+    );
+    let whole = cube_of(&c, &frame);
+    let mut parts = cube_of(&c, &vec![CQ15::default(); frame.len()]);
+    let proc = RangeProcessor::new(n, nr, None).unwrap();
+    let mut rows: Vec<_> = parts.rows_mut().collect();
+    assert_eq!(rows.len(), c.channels() * c.chirps_per_tx as usize);
+    // In reverse, so an order the mapping got wrong cannot pass by writing the same row twice.
+    for (chirp, rx, out, exp) in rows.iter_mut().rev() {
+        let start = (*chirp * c.rx_count() + *rx) * n;
+        **exp = proc.process(&frame[start..start + n], out).unwrap();
+    }
+    drop(rows);
+    assert!(whole.rows().eq(parts.rows()), "rows differ");
+
+    let map = rd_map(&whole, true);
+    let nd = map.len() / nr;
+    let options = DopplerOptions {
+        remove_static: true,
+        window: None,
+    };
+    let mut split = vec![0f32; map.len()];
+    let half = nr / 2 + 3;
+    let (lower, upper) = split.split_at_mut(half * nd);
+    let mut scratch = vec![CQ15::default(); nd];
+    range_doppler_rows(&whole, &options, &mut scratch, 0, lower).unwrap();
+    range_doppler_rows(&whole, &options, &mut scratch, half, upper).unwrap();
+    assert!(
+        map.iter()
+            .zip(&split)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "maps differ"
+    );
+    // A part reaching past the last bin, or not whole rows, is refused.
+    let mut long = vec![0f32; (nr - half + 1) * nd];
+    assert!(range_doppler_rows(&whole, &options, &mut scratch, half, &mut long).is_err());
+    let mut ragged = vec![0f32; nd + 1];
+    assert!(range_doppler_rows(&whole, &options, &mut scratch, 0, &mut ragged).is_err());
 }
 
 #[test]

@@ -22,17 +22,43 @@ pub fn range_doppler_map(
     scratch: &mut [CQ15],
     out: &mut [f32],
 ) -> Result<(), DopplerError> {
-    let nd = scratch.len();
-    let expected = cube.bins() * nd;
+    let expected = cube.bins() * scratch.len();
     if out.len() != expected {
         return Err(DopplerError::Map {
             expected,
             got: out.len(),
         });
     }
+    range_doppler_rows(cube, options, scratch, 0, out)
+}
+
+/// The rows of [`range_doppler_map`] from range bin `first` on, as many as `out` holds (whole
+/// rows of `scratch.len()`): the same values, so disjoint parts can be filled apart (on the
+/// host, one per thread).
+///
+/// # Errors
+/// [`DopplerError`] on size mismatches (rows beyond the cube, or a part row).
+pub fn range_doppler_rows(
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[Exponent]>>,
+    options: &DopplerOptions<'_>,
+    scratch: &mut [CQ15],
+    first: usize,
+    out: &mut [f32],
+) -> Result<(), DopplerError> {
+    let nd = scratch.len();
+    if out.is_empty() {
+        return Ok(());
+    }
+    let rows = out.len() / nd.max(1);
+    if nd == 0 || rows * nd != out.len() || first + rows > cube.bins() {
+        return Err(DopplerError::Map {
+            expected: cube.bins().saturating_sub(first) * nd,
+            got: out.len(),
+        });
+    }
     out.fill(0.0);
-    for bin in 0..cube.bins() {
-        let row = &mut out[bin * nd..(bin + 1) * nd];
+    for (i, row) in out.chunks_exact_mut(nd).enumerate() {
+        let bin = first + i;
         for ch in 0..cube.channels() {
             let exp = doppler_column(cube, ch, bin, options, scratch)?;
             for (o, &z) in row.iter_mut().zip(scratch.iter()) {

@@ -122,8 +122,10 @@ fn db(v: f32) -> f32 {
 /// Calls `emit` for every point of the frame in `cube`. `map` is its range–Doppler map
 /// (`bins × nd`, from [`crate::doppler::range_doppler_map`] with the same `doppler` options),
 /// `scratch` has the Doppler length `nd`, `spectra` holds `channels × nd` values (the Doppler
-/// spectra of one range bin). Returns the number of points. O(cells · window) for CFAR plus
-/// O(channels · nd log nd) per range bin with a detection.
+/// spectra of one range bin). Only detections at range bins in `bins_in` become points
+/// (`0..usize::MAX` for all): parts of the bins give the same points in the same order, so the
+/// host can split a frame among threads and concatenate. Returns the number of points.
+/// O(cells · window) for CFAR plus O(channels · nd log nd) per range bin with a detection.
 ///
 /// # Errors
 /// [`PointsError`] on size mismatches.
@@ -135,6 +137,7 @@ pub fn frame_points(
     doppler: &DopplerOptions<'_>,
     map: &[f32],
     options: &CloudOptions,
+    bins_in: core::ops::Range<usize>,
     scratch: &mut [CQ15],
     spectra: &mut [Complex32],
     mut emit: impl FnMut(RadarPoint),
@@ -161,6 +164,9 @@ pub fn frame_points(
                 return;
             }
             let (b, d) = (det.index / nd, det.index % nd);
+            if !bins_in.contains(&b) {
+                return;
+            }
             // Local maxima of the map only (Doppler wraps, range truncates).
             let v = det.value;
             if v < floor {

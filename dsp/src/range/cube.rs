@@ -149,6 +149,23 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> RangeCube<D, E> {
 }
 
 impl<D: AsRef<[CQ15]> + AsMut<[CQ15]>, E: AsRef<[Exponent]> + AsMut<[Exponent]>> RangeCube<D, E> {
+    /// Every row and its exponent to write, in `[channel][loop]` order, each with the chirp
+    /// (frame order, loop-major) and the receiver whose samples it holds: the rows
+    /// [`Self::push_chirp`] writes, for a caller that fills them in another order or splits
+    /// them among threads (disjoint borrows).
+    pub fn rows_mut(&mut self) -> impl Iterator<Item = (usize, usize, &mut [CQ15], &mut Exponent)> {
+        let (slots, rx, loops) = (self.slots, self.rx.max(1), self.loops.max(1));
+        self.data
+            .as_mut()
+            .chunks_exact_mut(self.bins.max(1))
+            .zip(self.exponents.as_mut().iter_mut())
+            .enumerate()
+            .map(move |(r, (row, exp))| {
+                let (channel, lp) = (r / loops, r % loops);
+                (lp * slots + channel / rx, channel % rx, row, exp)
+            })
+    }
+
     /// Range-processes the samples of chirp `chirp` (frame order, loop-major) of receiver `rx`
     /// into its row. O(N log N).
     ///

@@ -102,6 +102,45 @@ fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance
             },
         )
         .unwrap();
+    // The processor splits the map and the cloud between two threads: both are the one-thread
+    // `dsp` results bit for bit.
+    let nd = spectra.doppler_len;
+    let mut scratch = vec![CQ15::default(); nd];
+    let mut map = vec![0f32; spectra.range_bins * nd];
+    let doppler = proc.doppler_options(false);
+    metamoran_dsp::doppler::range_doppler_map(proc.cube(), &doppler, &mut scratch, &mut map)
+        .unwrap();
+    assert!(
+        map.iter()
+            .zip(&spectra.range_doppler)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "range-Doppler map differs"
+    );
+    let mut whole = Vec::new();
+    let mut values = vec![metamoran_dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
+    metamoran_dsp::points::frame_points(
+        proc.cube(),
+        &config,
+        &geometry,
+        &doppler,
+        &map,
+        &metamoran_dsp::points::CloudOptions {
+            velocity_prior: prior,
+            ..metamoran_map::cloud::default_options()
+        },
+        0..usize::MAX,
+        &mut scratch,
+        &mut values,
+        |p| whole.push(p),
+    )
+    .unwrap();
+    assert_eq!(points, whole);
+    // With points in both halves of the range bins, both threads had work.
+    let half = config.bin_to_range(spectra.range_bins as f32 / 2.0, spectra.range_bins);
+    assert!(
+        whole.iter().any(|p| p.range_m < half) && whole.iter().any(|p| p.range_m > half),
+        "all points on one side of {half} m"
+    );
     let bin = config.range_bin_size(config.range_fft_len()) as f64;
     for &(r, az, el, v) in targets {
         // The strongest point within two range bins.

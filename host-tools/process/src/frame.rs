@@ -6,7 +6,7 @@ use metamoran_dsp::array::VirtualArray;
 use metamoran_dsp::azimuth::azimuth_spectrum;
 use metamoran_dsp::config::{RadarConfig, azimuth_bin_to_angle};
 use metamoran_dsp::detect::quadratic_offset;
-use metamoran_dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_map};
+use metamoran_dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_rows};
 use metamoran_dsp::fft::{self, Exponent};
 use metamoran_dsp::fixed::{CQ15, Q15};
 use metamoran_dsp::range::{RangeCube, RangeProcessor};
@@ -38,6 +38,22 @@ pub struct FrameSpectra {
     pub range_bins: usize,
     /// Doppler FFT length.
     pub doppler_len: usize,
+}
+
+/// Runs `a` here and `b` on a second thread (this host's two cores), `a`'s error first. A
+/// panic in `b` goes on in the caller, as it would have run there.
+fn both<E: Send>(
+    a: impl FnOnce() -> Result<(), E>,
+    b: impl FnOnce() -> Result<(), E> + Send,
+) -> Result<(), E> {
+    std::thread::scope(|s| {
+        let other = s.spawn(b);
+        let mine = a();
+        let theirs = other
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        mine.and(theirs)
+    })
 }
 
 /// Owns the buffers for processing frames of one configuration.
@@ -106,11 +122,18 @@ impl FrameProcessor {
         (kind != WindowKind::Rectangular && table.len() >= MIN_WINDOW_LEN).then_some(table)
     }
 
-    fn doppler_options(&self, remove_static: bool) -> DopplerOptions<'_> {
+    /// The Doppler options this processor's map and cloud use (its Doppler window), with or
+    /// without static removal.
+    pub fn doppler_options(&self, remove_static: bool) -> DopplerOptions<'_> {
         DopplerOptions {
             remove_static,
             window: Self::window_of(self.options.doppler_window, &self.doppler_window),
         }
+    }
+
+    /// The range cube of the last processed frame.
+    pub fn cube(&self) -> &RangeCube<Vec<CQ15>, Vec<Exponent>> {
+        &self.cube
     }
 
     /// Range-processes one frame (`[chirp][rx][sample]`) into the cube and returns its spectra.
@@ -133,11 +156,20 @@ impl FrameProcessor {
         }
         let window = Self::window_of(self.options.range_window, &self.range_window);
         let processor = RangeProcessor::new(n, nr, window)?;
-        for (chirp, rows) in frame.chunks_exact(rx * n).enumerate() {
-            for (r, samples) in rows.chunks_exact(n).enumerate() {
-                self.cube.push_chirp(&processor, chirp, r, samples)?;
-            }
-        }
+        // Each row is its own chirp's and receiver's: half of them on a second thread, the
+        // same bits as one after the other.
+        let mut rows: Vec<_> = self.cube.rows_mut().collect();
+        let mid = rows.len() / 2;
+        let (first, second) = rows.split_at_mut(mid);
+        let fill = |part: &mut [(usize, usize, &mut [CQ15], &mut Exponent)]| {
+            part.iter_mut().try_for_each(|(chirp, r, out, exp)| {
+                let start = (*chirp * rx + *r) * n;
+                **exp = processor.process(&frame[start..start + n], out)?;
+                Ok::<(), ProcessError>(())
+            })
+        };
+        both(|| fill(first), || fill(second))?;
+        drop(rows);
         let mut range_profile = vec![0f32; nr];
         let mut rows = 0;
         for (row, exp) in self.cube.rows() {
@@ -148,12 +180,16 @@ impl FrameProcessor {
         }
         range_profile.iter_mut().for_each(|p| *p /= rows as f32);
         let mut range_doppler = vec![0f32; nr * nd];
+        // Range bins are independent too: the upper half on a second thread.
         let mut scratch = std::mem::take(&mut self.scratch);
-        let result = range_doppler_map(
-            &self.cube,
-            &self.doppler_options(self.options.remove_static),
-            &mut scratch,
-            &mut range_doppler,
+        let mut upper_scratch = vec![CQ15::default(); nd];
+        let options = self.doppler_options(self.options.remove_static);
+        let half = nr / 2;
+        let (lower, upper) = range_doppler.split_at_mut(half * nd);
+        let cube = &self.cube;
+        let result = both(
+            || range_doppler_rows(cube, &options, &mut scratch, 0, lower),
+            || range_doppler_rows(cube, &options, &mut upper_scratch, half, upper),
         );
         self.scratch = scratch;
         result?;
@@ -222,7 +258,9 @@ impl FrameProcessor {
     }
 
     /// The point cloud of the last processed frame (`spectra` is what [`Self::process`]
-    /// returned for it): [`metamoran_dsp::points::frame_points`] over this processor's range cube.
+    /// returned for it): [`metamoran_dsp::points::frame_points`] over this processor's range
+    /// cube, the farther half of the range bins on a second thread (the same points in the same
+    /// order).
     ///
     /// # Errors
     /// [`ProcessError`] if the buffers do not fit the configuration.
@@ -232,24 +270,35 @@ impl FrameProcessor {
         geometry: &metamoran_dsp::points::ArrayGeometry,
         options: &metamoran_dsp::points::CloudOptions,
     ) -> Result<Vec<metamoran_dsp::points::RadarPoint>, ProcessError> {
-        let mut scratch = std::mem::take(&mut self.scratch);
-        let mut values =
-            vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * spectra.doppler_len];
-        let mut out = Vec::new();
-        let result = metamoran_dsp::points::frame_points(
-            &self.cube,
-            &self.config,
-            geometry,
-            &self.doppler_options(self.options.remove_static),
-            &spectra.range_doppler,
-            options,
-            &mut scratch,
-            &mut values,
-            |p| out.push(p),
-        );
-        self.scratch = scratch;
-        result?;
-        Ok(out)
+        let nd = spectra.doppler_len;
+        let doppler = self.doppler_options(self.options.remove_static);
+        let (cube, config) = (&self.cube, &self.config);
+        let part = |bins: std::ops::Range<usize>, out: &mut Vec<_>| {
+            let mut scratch = vec![CQ15::default(); nd];
+            let mut values = vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
+            metamoran_dsp::points::frame_points(
+                cube,
+                config,
+                geometry,
+                &doppler,
+                &spectra.range_doppler,
+                options,
+                bins,
+                &mut scratch,
+                &mut values,
+                |p| out.push(p),
+            )
+            .map(drop)
+            .map_err(ProcessError::from)
+        };
+        let half = spectra.range_bins / 2;
+        let (mut near, mut far) = (Vec::new(), Vec::new());
+        both(
+            || part(0..half, &mut near),
+            || part(half..usize::MAX, &mut far),
+        )?;
+        near.append(&mut far);
+        Ok(near)
     }
 
     /// Azimuth FFT length used for this array: 4× oversampled, at least 64 points.
