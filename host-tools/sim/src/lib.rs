@@ -218,7 +218,11 @@ pub fn simulate_scene_with(
         return scene;
     }
     let (layout, deepest) = layout::draw(preset, difficulty, &mut rng, radar::max_range_for);
-    let loops = if preset == Preset::Moving { 16 } else { 2 };
+    let loops = if matches!(preset, Preset::Moving | Preset::FarMoving) {
+        16
+    } else {
+        2
+    };
     let mut config = radar::config(kind, radar::max_range_for(deepest), loops);
     // The MMWCAS board's raised TX add their elevation's phase to every echo.
     let tx_elevation = radar::tx_elevation(kind);

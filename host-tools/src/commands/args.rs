@@ -80,6 +80,8 @@ pub enum PresetArg {
     LongRange,
     /// Moving car, person or sign at 20–300 m among static clutter.
     Moving,
+    /// Far movers among static clutter: cars at 100–300 m, people at 100–230 m.
+    FarMoving,
     /// A perimeter over 22 frames: a parked car and a person walking into a zone and out (the
     /// demo scene).
     Perimeter,
@@ -108,6 +110,7 @@ impl PresetArg {
             PresetArg::ParkingLot => Preset::ParkingLot,
             PresetArg::LongRange => Preset::LongRange,
             PresetArg::Moving => Preset::Moving,
+            PresetArg::FarMoving => Preset::FarMoving,
             PresetArg::Perimeter => Preset::Perimeter,
             PresetArg::Crossing => Preset::Crossing,
             PresetArg::Drive => Preset::Drive,
