@@ -215,3 +215,73 @@ fn the_trust_test_is_calibrated_and_rarely_confidently_wrong() {
     let close = folded.iter().filter(|e| e.abs() <= 2.1).count();
     assert!(close as f64 >= 0.9 * folded.len() as f64, "{folded:?}");
 }
+
+/// Issue #17's far movers on fresh seeds of their own preset (cars at 100–300 m, people at
+/// 100–230 m, cascade): people detected ≥ 70 % (the goal), cars detected ≥ 85 % (goal 90 %:
+/// 86–100 % per seed of 48 scenes, so the test guards what holds) within a median 1.0 m, and
+/// confidently wrong (detected and > 3 m off) at most 2 % of the objects.
+#[test]
+fn far_movers_are_found_to_300_m() {
+    let tmp = tempfile::tempdir().unwrap();
+    simulate(
+        Preset::FarMoving,
+        RadarKind::Cascade,
+        90_176,
+        48,
+        tmp.path(),
+        &|| (),
+    )
+    .unwrap();
+    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], &|| ()).unwrap();
+    let share = |class: &str, f: &dyn Fn(&eval::Sample) -> bool| {
+        let of: Vec<_> = samples.iter().filter(|s| s.class == class).collect();
+        assert!(of.len() >= 20, "{} {class}", of.len());
+        of.iter().filter(|s| f(s)).count() as f64 / of.len() as f64
+    };
+    let detected = |s: &eval::Sample| s.error_m.is_some();
+    let (people, cars) = (share("person", &detected), share("car", &detected));
+    println!("detected: people {people:.3}, cars {cars:.3}");
+    assert!(people >= 0.7, "people detected {people}");
+    assert!(cars >= 0.85, "cars detected {cars}");
+    let mut errors: Vec<f64> = samples
+        .iter()
+        .filter(|s| s.class == "car")
+        .filter_map(|s| s.error_m.map(f64::abs))
+        .collect();
+    errors.sort_by(f64::total_cmp);
+    assert!(errors[errors.len() / 2] <= 1.0, "{errors:?}");
+    let wrong = samples
+        .iter()
+        .filter(|s| s.error_m.is_some_and(|e| e.abs() > 3.0))
+        .count();
+    assert!(
+        wrong as f64 <= 0.02 * samples.len() as f64,
+        "{wrong} of {} confidently wrong",
+        samples.len()
+    );
+}
+
+/// A car at 241 m, past the 256 m the depth image holds once its monocular error is added: only
+/// its mask's grown bottom row has a depth, the ground's, whose spread across the mask is
+/// metres. Taken for the car's contour it put the depth 3.8 m in front of the car (detected, at
+/// confidence 0.97); with a flat contour the depth is within 1 m.
+#[test]
+fn a_mask_without_its_own_depths_gets_a_flat_contour() {
+    let tmp = tempfile::tempdir().unwrap();
+    metamoran_sim::simulate_one(
+        Preset::FarMoving,
+        RadarKind::Cascade,
+        10_501,
+        89,
+        &tmp.path().join("far-car"),
+    )
+    .unwrap();
+    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], &|| ()).unwrap();
+    let [car] = samples.as_slice() else {
+        panic!("{samples:?}")
+    };
+    let truth = car.truth_m;
+    assert!((240.0..241.5).contains(&truth), "another scene: {truth}");
+    let error = car.error_m.expect("detected");
+    assert!(error.abs() <= 1.0, "{error} m off");
+}

@@ -20,6 +20,8 @@ pub struct CameraObject {
     pub span: Option<(f64, f64)>,
     /// Vertical extent of the mask; `None` for an empty mask.
     pub extent: Option<VerticalExtent>,
+    /// Share of the mask's pixels with a monocular depth, 0–1 (0 for an empty mask).
+    pub depth_coverage: f64,
 }
 
 /// How tall a mask looks: the slopes `y / √(x² + z²)` (y down, radar frame) of its highest and
@@ -52,6 +54,14 @@ fn slope(d: &Point) -> f64 {
 /// Share of an object's points, nearest first, read as segmentation outliers (mask pixels that
 /// caught a nearer surface's depth) when taking its closest range.
 pub const NEAR_OUTLIERS: f64 = 0.02;
+
+/// Least share of a mask's pixels with a monocular depth for the depths to describe the
+/// object's shape ([`CameraObject::has_shape`]). Below it the object lies beyond what the depth
+/// image holds (256 m, or wherever the estimator gives up), and the depths left are the
+/// neighbours' that bled into the mask's edge: a far car's grown bottom row on the ground. Their
+/// range is still near the object's (the ground under it), but their spread across the mask is
+/// the ground's, not a contour.
+pub const MIN_DEPTH_COVERAGE: f64 = 0.5;
 
 /// How far behind its closest point an object of `class` reaches, m; masked pixels farther back
 /// show the background through the mask's edge (bleed).
@@ -88,6 +98,12 @@ impl CameraObject {
         shift_to_depth(&body, depth)
     }
 
+    /// Whether the monocular points describe the object's shape: at least
+    /// [`MIN_DEPTH_COVERAGE`] of its mask has a depth.
+    pub fn has_shape(&self) -> bool {
+        self.depth_coverage >= MIN_DEPTH_COVERAGE
+    }
+
     /// The median azimuth of the points, radians.
     pub fn median_azimuth(&self) -> Option<f64> {
         let mut a: Vec<f64> = self.points.iter().map(azimuth).collect();
@@ -112,9 +128,11 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
             points: Vec::new(),
             span: None,
             extent: None,
+            depth_coverage: 0.0,
         })
         .collect();
     out.sort_by_key(|o| o.instance);
+    let mut pixels = vec![0usize; out.len()];
     let w = frame.width;
     for (idx, &id) in frame.mask.iter().enumerate() {
         let Ok(k) = out.binary_search_by_key(&id, |o| o.instance) else {
@@ -124,6 +142,7 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
         let depth = frame.depth_m(u, v);
         let p = camera.back_project(u, v, depth.unwrap_or(20.0) as f64);
         let az = azimuth(&p);
+        pixels[k] += 1;
         let o = &mut out[k];
         o.span = Some(o.span.map_or((az, az), |(lo, hi)| (lo.min(az), hi.max(az))));
         let t = slope(&camera.ray(u, v).0);
@@ -149,7 +168,8 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
             o.points.push(p);
         }
     }
-    for o in &mut out {
+    for (o, &n) in out.iter_mut().zip(&pixels) {
+        o.depth_coverage = o.points.len() as f64 / n.max(1) as f64;
         if o.points.len() > MAX_POINTS {
             let step = o.points.len().div_ceil(MAX_POINTS);
             o.points = o.points.iter().step_by(step).copied().collect();
@@ -192,6 +212,7 @@ mod tests {
             points,
             span: Some((0.0, 0.0)),
             extent: None,
+            depth_coverage: 1.0,
         };
         // 111 points: the 2 % share skips index 0 and 1 (5 m, 20 m).
         assert_eq!(car.closest_range(), Some(20.04));
@@ -200,5 +221,67 @@ mod tests {
         let ranges: Vec<f64> = fused.iter().map(range_xz).collect();
         assert!((ranges[0] - 30.0).abs() < 1e-9);
         assert!((ranges[98] - (30.0 + 0.04 * 98.0)).abs() < 1e-9);
+    }
+
+    /// A 64 × 16 frame, level camera (f = 100 px) at the radar: instance 1 fills columns 20–29
+    /// of rows 4–11 (80 pixels) with `own` depth and its grown bottom row (row 12) the ground's.
+    fn far_car(own: u16, ground: u16) -> CameraFrame {
+        let (w, h) = (64u32, 16u32);
+        let mut mask = vec![0u16; (w * h) as usize];
+        let mut depth = vec![0u16; (w * h) as usize];
+        for v in 4..=12u32 {
+            for u in 20..30u32 {
+                let i = (v * w + u) as usize;
+                mask[i] = 1;
+                depth[i] = if v == 12 {
+                    ground + 64 * (u as u16 % 3)
+                } else {
+                    own
+                };
+            }
+        }
+        CameraFrame {
+            width: w,
+            height: h,
+            mask,
+            depth,
+            instances: vec![metamoran_bundle::Instance {
+                id: 1,
+                class: "car".into(),
+            }],
+        }
+    }
+
+    fn camera() -> CameraModel {
+        CameraModel::new(&metamoran_bundle::CameraConfig {
+            width: 64,
+            height: 16,
+            fx: 100.0,
+            fy: 100.0,
+            cx: 32.0,
+            cy: 8.0,
+            translation_m: [0.0; 3],
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            roll_deg: 0.0,
+        })
+    }
+
+    #[test]
+    fn a_mask_with_depths_only_at_its_edge_has_no_shape() {
+        // Beyond the depth image's 256 m: only the 10 ground pixels of its 90 have a depth.
+        let far = objects_of_interest(&camera(), &far_car(0, 230 * 256));
+        assert_eq!(far.len(), 1);
+        assert!((far[0].depth_coverage - 10.0 / 90.0).abs() < 1e-12);
+        assert!(!far[0].has_shape());
+        assert_eq!(
+            far[0].points.len(),
+            10,
+            "the points stay for the monocular range"
+        );
+        // Near: every pixel has one.
+        let near = objects_of_interest(&camera(), &far_car(40 * 256, 41 * 256));
+        assert_eq!(near[0].depth_coverage, 1.0);
+        assert!(near[0].has_shape());
     }
 }

@@ -542,8 +542,12 @@ fn pack_elements(edge: &Edge, channels: &[C32], m: usize) -> (Vec<u32>, i32) {
 }
 
 /// The contour of an object: per azimuth bin, the median monocular range of its points;
-/// bins far from the object's near surface (bleed into the background) are dropped.
+/// bins far from the object's near surface (bleed into the background) are dropped. Empty for
+/// an object whose points do not describe its shape ([`CameraObject::has_shape`]).
 pub fn contour(obj: &CameraObject) -> Contour {
+    if !obj.has_shape() {
+        return Contour::default();
+    }
     let mut bins: std::collections::BTreeMap<i64, Vec<f64>> = std::collections::BTreeMap::new();
     for p in &obj.points {
         bins.entry((azimuth(p) / AZ_BIN).floor() as i64)
@@ -598,7 +602,7 @@ pub fn class_code(class: &str) -> u8 {
 
 /// The module's hint for `obj` as it arrives over the link ([`ObjectHint::from_wire`] of its wire
 /// form): id, class, sin-azimuth span, monocular prior and contour (a flat one across the span
-/// where the mask has no usable depth, e.g. beyond the 256 m a depth PNG holds).
+/// where the mask has no usable shape, e.g. beyond the 256 m a depth PNG holds).
 pub fn hint(obj: &CameraObject) -> Option<ObjectHint> {
     wire_hint(0, obj).map(|h| ObjectHint::from_wire(&h))
 }
