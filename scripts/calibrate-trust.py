@@ -21,6 +21,7 @@ import numpy as np
 
 FAR_SPREAD, NEAR_SPREAD, NO_RIVAL_MARGIN, VAGUE, MIN_DOPPLER_DB = 0.05, 0.1, 8.0, 3.0, 20.0
 ROWS_OFF = 3.0
+LEAD_DB, SAME_MOVER_MPS = 10.0, 1.0
 KNOTS = [(0.0, 0.3), (10.0, 0.6), (30.0, 6.75), (50.0, 19.4)]
 
 
@@ -52,6 +53,22 @@ def height(ev, d):
     return 0.0
 
 
+def leading_edge(scored, strongest, extent):
+    """A mover's nearest candidate within its extent in front and LEAD_DB of the strongest."""
+    v = strongest.get("velocity_mps")
+    if v is None:
+        return strongest
+    near = [
+        c
+        for _, c in scored
+        if c.get("velocity_mps") is not None
+        and abs(c["velocity_mps"] - v) <= SAME_MOVER_MPS
+        and strongest["depth_m"] - extent <= c["depth_m"] < strongest["depth_m"]
+        and c["over_floor_db"] >= strongest["over_floor_db"] - LEAD_DB
+    ]
+    return min(near, key=lambda c: c["depth_m"]) if near else strongest
+
+
 def judge(ev, beta, bonus=0.0, side_lobe=0.0):
     scored = [
         (
@@ -67,8 +84,9 @@ def judge(ev, beta, bonus=0.0, side_lobe=0.0):
     ]
     if not scored:
         return None
-    best, chosen = max(scored, key=lambda sc: sc[0])
+    best, strongest = max(scored, key=lambda sc: sc[0])
     extent = max(ev.get("extent_m", 1.0), 1.0)
+    chosen = leading_edge(scored, strongest, extent)
     same = sum(
         math.exp(s - best)
         for s, c in scored

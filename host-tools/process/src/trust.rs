@@ -46,6 +46,12 @@ pub const VAGUE: f64 = 3.0;
 /// Doppler-path candidates below this height over their floor, dB, are noise: the movers the
 /// path finds stand 29 dB or more above it (5th percentile on our scenes), the rest 9 dB (median).
 pub const MIN_DOPPLER_DB: f64 = 20.0;
+/// A Doppler candidate of the same mover in front of the strongest one, within the object's
+/// extent and this much weaker at most, dB, is the mover's closest point: the strongest
+/// return of a far car is often its body, 1–5 m behind ([`Evidence::judge`]).
+pub const LEAD_DB: f64 = 10.0;
+/// Radial velocities this close, m/s, are one mover's (a bin or two apart on every board).
+pub const SAME_MOVER_MPS: f64 = 1.0;
 /// Log-odds given to a candidate that has no rival, nats.
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
@@ -275,7 +281,10 @@ impl Evidence {
     }
 
     /// The candidate the radar and the camera together support best, with its confidence;
-    /// `None` without candidates. O(candidates).
+    /// `None` without candidates. When it is a mover's, its depth is that of the nearest
+    /// candidate of the same mover within the object's extent in front of it and
+    /// [`LEAD_DB`] of its score: the closest point, as the static search's contour gives it
+    /// (behind a mover's Doppler bin there is nothing but the mover). O(candidates).
     pub fn judge(&self) -> Option<Verdict> {
         let scored: Vec<(f64, &Candidate)> = self
             .candidates
@@ -283,7 +292,8 @@ impl Evidence {
             .filter(|c| c.velocity_mps.is_none() || c.over_floor_db >= MIN_DOPPLER_DB)
             .map(|c| (self.score(c), c))
             .collect();
-        let &(best, chosen) = scored.iter().max_by(|a, b| a.0.total_cmp(&b.0))?;
+        let &(best, strongest) = scored.iter().max_by(|a, b| a.0.total_cmp(&b.0))?;
+        let chosen = self.leading_edge(&scored, strongest);
         // The chosen depth's share of the candidates' evidence (softmax of the scores), counting
         // those from 1 m in front of it to the object's extent behind it as the same answer (the
         // depth is the closest point: the body reflects behind it).
@@ -314,10 +324,35 @@ impl Evidence {
         };
         Some(Verdict {
             depth_m: chosen.depth_m,
-            velocity_mps: chosen.velocity_mps,
+            velocity_mps: strongest.velocity_mps,
             confidence: confidence(&features),
             features,
         })
+    }
+
+    /// The nearest candidate of the mover `strongest` is (same velocity within
+    /// [`SAME_MOVER_MPS`], up to the object's extent in front, at most [`LEAD_DB`] weaker);
+    /// `strongest` itself for a static candidate or when none is nearer.
+    fn leading_edge<'a>(
+        &self,
+        scored: &[(f64, &'a Candidate)],
+        strongest: &'a Candidate,
+    ) -> &'a Candidate {
+        let Some(v) = strongest.velocity_mps else {
+            return strongest;
+        };
+        let reach = strongest.depth_m - self.extent_m.max(1.0);
+        scored
+            .iter()
+            .map(|&(_, c)| c)
+            .filter(|c| {
+                c.velocity_mps
+                    .is_some_and(|w| (w - v).abs() <= SAME_MOVER_MPS)
+                    && (reach..strongest.depth_m).contains(&c.depth_m)
+                    && c.over_floor_db >= strongest.over_floor_db - LEAD_DB
+            })
+            .min_by(|a, b| a.depth_m.total_cmp(&b.depth_m))
+            .unwrap_or(strongest)
     }
 }
 
@@ -564,12 +599,54 @@ mod tests {
             car.features.margin > point.features.margin + 1.0,
             "{car:?} {point:?}"
         );
-        // A candidate in front of the chosen depth is a rival whatever the extent.
+        // Another mover's candidate in front of the chosen depth is a rival whatever the extent.
+        let other = Candidate {
+            velocity_mps: Some(-12.0),
+            ..candidate(116.0, 44.0)
+        };
         let front = Evidence {
-            candidates: vec![mover(120.0, 45.0), mover(116.0, 44.0)],
+            candidates: vec![mover(120.0, 45.0), other],
             ..e(6.0)
         };
         assert!(front.judge().unwrap().features.margin < 1.0);
+    }
+
+    #[test]
+    fn a_mover_s_depth_is_its_nearest_return() {
+        // A far car (case far-moving-10502-0018): its strongest return at 273.6 m is the body,
+        // its closest point 268.7 m; the Doppler path reports three depths of the one mover.
+        let mover = |d: f64, db: f64, v: f64| Candidate {
+            velocity_mps: Some(v),
+            ..candidate(d, db)
+        };
+        let e = |candidates| Evidence {
+            candidates,
+            monocular_m: None,
+            height: cue(100.0, 800.0),
+            beamwidth_deg: 1.33,
+            extent_m: 6.0,
+        };
+        let car = e(vec![
+            mover(273.6, 46.0, -6.3),
+            mover(271.3, 40.0, -6.3),
+            mover(269.4, 40.0, -6.5),
+            candidate(129.7, 46.0),
+        ])
+        .judge()
+        .unwrap();
+        assert_eq!(car.depth_m, 269.4);
+        assert_eq!(car.velocity_mps, Some(-6.3), "the strongest return's");
+        // All three are one answer: no rival but the clutter far off.
+        assert!(car.features.margin > 3.0 && car.detected(), "{car:?}");
+        // Not the mover's: another velocity, more than LEAD_DB weaker, or beyond its extent.
+        for other in [
+            mover(269.4, 40.0, -8.0),
+            mover(269.4, 35.0, -6.3),
+            mover(267.0, 40.0, -6.3),
+        ] {
+            let v = e(vec![mover(273.6, 46.0, -6.3), other]).judge().unwrap();
+            assert_eq!(v.depth_m, 273.6, "{other:?}");
+        }
     }
 
     #[test]
