@@ -356,6 +356,109 @@ impl Evidence {
     }
 }
 
+/// Depths this close, m, are one reflection when two objects inside one beam choose them (and
+/// both are static, or movers within [`SAME_MOVER_MPS`]): a return seen through two masks whose
+/// contours differ lands a bin or two apart.
+pub const SAME_RETURN_M: f64 = 1.5;
+
+/// One object's claim on a reflection, for [`share_returns`]: its verdict and the azimuth of its
+/// mask's centre, degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Claim {
+    /// The object's verdict (`None`: it claims nothing).
+    pub verdict: Option<Verdict>,
+    /// Azimuth of the centre of its mask's span, degrees.
+    pub azimuth_deg: Option<f64>,
+}
+
+impl Claim {
+    /// Whether `self` and `other` chose the same reflection: inside one beam of `beamwidth_deg`,
+    /// depths within [`SAME_RETURN_M`], both static or one mover's velocity.
+    fn shares(&self, other: &Claim, beamwidth_deg: f64) -> bool {
+        let (Some(a), Some(b), Some(x), Some(y)) = (
+            self.verdict,
+            other.verdict,
+            self.azimuth_deg,
+            other.azimuth_deg,
+        ) else {
+            return false;
+        };
+        let same_motion = match (a.velocity_mps, b.velocity_mps) {
+            (None, None) => true,
+            (Some(v), Some(w)) => (v - w).abs() <= SAME_MOVER_MPS,
+            _ => false,
+        };
+        same_motion
+            && (a.depth_m - b.depth_m).abs() <= SAME_RETURN_M
+            && (x - y).abs() <= beamwidth_deg
+    }
+}
+
+/// One reflection is one object's: where objects a beam apart or less chose the same return,
+/// at most one of them is right (two objects at one range in one beam would be one return the
+/// radar cannot split, and on our scenes every such pair had one wrong), so each one's
+/// confidence becomes its probability of being the one: `p_i Π_{j≠i}(1 − p_j)` over the
+/// probability that at most one is right. An object nothing else claims keeps its confidence;
+/// one contested by an object that is surely wrong keeps it too. The depths are unchanged:
+/// the trust test only stops vouching for them. O(objects²).
+///
+/// A far car and a sign in front of it on an 8-element radar (14.5° beam) both chose the sign's
+/// return, at confidences 0.95 and 0.93; now neither is reported detected:
+///
+/// ```
+/// # use metamoran_process::trust::{Claim, Evidence, Candidate, share_returns};
+/// let mover = |depth_m| Candidate { depth_m, over_floor_db: 40.0, survives: true, velocity_mps: Some(-18.1) };
+/// let verdict = |c| Evidence {
+///     candidates: vec![c], monocular_m: None, height: None, beamwidth_deg: 14.5, extent_m: 5.0,
+/// }.judge();
+/// let mut claims = [
+///     Claim { verdict: verdict(mover(173.7)), azimuth_deg: Some(-14.0) },
+///     Claim { verdict: verdict(mover(173.8)), azimuth_deg: Some(-8.8) },
+/// ];
+/// assert!(claims.iter().all(|c| c.verdict.unwrap().detected()));
+/// share_returns(&mut claims, 14.5);
+/// assert!(claims.iter().all(|c| !c.verdict.unwrap().detected()));
+/// ```
+pub fn share_returns(claims: &mut [Claim], beamwidth_deg: f64) {
+    let posterior: Vec<Option<f64>> = claims
+        .iter()
+        .enumerate()
+        .map(|(i, me)| {
+            let p = |c: &Claim| c.verdict.map_or(0.0, |v| v.confidence);
+            let rivals: Vec<f64> = claims
+                .iter()
+                .enumerate()
+                .filter(|&(j, other)| j != i && me.shares(other, beamwidth_deg))
+                .map(|(_, other)| p(other))
+                .collect();
+            if rivals.is_empty() {
+                return None;
+            }
+            // P(only i right) over P(none right) + Σ_k P(only k right).
+            let group: Vec<f64> = std::iter::once(p(me)).chain(rivals).collect();
+            let only = |k: usize| {
+                group
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &q)| if j == k { q } else { 1.0 - q })
+                    .product::<f64>()
+            };
+            let none: f64 = group.iter().map(|q| 1.0 - q).product();
+            let at_most_one = none + (0..group.len()).map(only).sum::<f64>();
+            Some(if at_most_one > 0.0 {
+                only(0) / at_most_one
+            } else {
+                0.0
+            })
+        })
+        .collect();
+    for (c, p) in claims.iter_mut().zip(posterior) {
+        if let (Some(v), Some(p)) = (c.verdict.as_mut(), p) {
+            v.confidence = p;
+        }
+    }
+}
+
 /// The logistic confidence of [`COEFFICIENTS`].
 pub fn confidence(f: &Features) -> f64 {
     let [
@@ -659,5 +762,89 @@ mod tests {
             extent_m: 1.5,
         };
         assert_eq!(e.judge(), None);
+    }
+
+    /// A claim at `depth_m` with `confidence`, static or at `velocity_mps`, `azimuth_deg` off axis.
+    fn claim(depth_m: f64, confidence: f64, velocity_mps: Option<f64>, azimuth_deg: f64) -> Claim {
+        let features = Features {
+            over_floor_db: 30.0,
+            margin: NO_RIVAL_MARGIN,
+            monocular: 0.0,
+            height: 0.0,
+            beamwidth_deg: 14.5,
+            vagueness: 1.0,
+            survives: 1.0,
+        };
+        Claim {
+            verdict: Some(Verdict {
+                depth_m,
+                confidence,
+                velocity_mps,
+                features,
+            }),
+            azimuth_deg: Some(azimuth_deg),
+        }
+    }
+
+    fn confidences(claims: &[Claim]) -> Vec<f64> {
+        claims
+            .iter()
+            .map(|c| c.verdict.unwrap().confidence)
+            .collect()
+    }
+
+    #[test]
+    fn a_shared_return_goes_to_at_most_one_claimant() {
+        let p = [0.9, 0.7, 0.4];
+        let mut claims = [
+            claim(50.0, p[0], Some(-3.0), 0.0),
+            claim(50.8, p[1], Some(-3.4), 6.0),
+            claim(49.6, p[2], Some(-2.5), -5.0),
+        ];
+        share_returns(&mut claims, 14.5);
+        // Reference: every right/wrong outcome of the three, independent with probabilities p,
+        // kept where at most one is right.
+        let (mut kept, mut alone) = (0.0, [0.0; 3]);
+        for outcome in 0..8_u32 {
+            let right = |i: usize| outcome >> i & 1 == 1;
+            if outcome.count_ones() > 1 {
+                continue;
+            }
+            let prob: f64 = (0..3)
+                .map(|i| if right(i) { p[i] } else { 1.0 - p[i] })
+                .product();
+            kept += prob;
+            for (i, a) in alone.iter_mut().enumerate() {
+                if right(i) {
+                    *a += prob;
+                }
+            }
+        }
+        for (got, a) in confidences(&claims).into_iter().zip(alone) {
+            assert!((got - a / kept).abs() < 1e-12, "{got} against {}", a / kept);
+        }
+    }
+
+    #[test]
+    fn returns_of_different_depths_motions_or_beams_are_not_shared() {
+        let first = claim(50.0, 0.9, Some(-3.0), 0.0);
+        for other in [
+            claim(52.0, 0.9, Some(-3.0), 0.0),  // 2 m behind: another return
+            claim(50.0, 0.9, Some(-5.0), 0.0),  // another velocity
+            claim(50.0, 0.9, None, 0.0),        // static
+            claim(50.0, 0.9, Some(-3.0), 15.0), // more than a beam away
+            Claim {
+                verdict: None,
+                azimuth_deg: Some(0.0),
+            },
+        ] {
+            let mut claims = [first, other];
+            share_returns(&mut claims, 14.5);
+            assert_eq!(claims, [first, other]);
+        }
+        // A claimant that is surely wrong takes nothing from the other.
+        let mut claims = [first, claim(50.0, 0.0, Some(-3.0), 1.0)];
+        share_returns(&mut claims, 14.5);
+        assert_eq!(confidences(&claims), [0.9, 0.0]);
     }
 }
