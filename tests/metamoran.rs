@@ -285,38 +285,3 @@ fn a_mask_without_its_own_depths_gets_a_flat_contour() {
     let error = car.error_m.expect("detected");
     assert!(error.abs() <= 1.0, "{error} m off");
 }
-
-/// A car at 155 m and a person at 146 m, 6° apart on the 8-element radar (a 14.5° beam): both
-/// chose the car's Doppler return (velocity −10.9 m/s), the person at confidence 0.88, 9.4 m
-/// behind itself, and was reported detected. One reflection is one object's: now neither is
-/// vouched for, and the car keeps its depth.
-#[test]
-fn two_objects_in_one_beam_do_not_share_a_return() {
-    let tmp = tempfile::tempdir().unwrap();
-    metamoran_sim::simulate_one(
-        Preset::Moving,
-        RadarKind::Xwr18xx,
-        10_601,
-        9,
-        &tmp.path().join("pair"),
-    )
-    .unwrap();
-    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], &|| ()).unwrap();
-    let [car, person] = samples.as_slice() else {
-        panic!("{samples:?}")
-    };
-    assert!(
-        (155.0..155.3).contains(&car.truth_m) && (146.2..146.5).contains(&person.truth_m),
-        "another scene: {} m, {} m",
-        car.truth_m,
-        person.truth_m
-    );
-    let (Some(c), Some(p)) = (car.judged_error_m, person.judged_error_m) else {
-        panic!("no depths: {samples:?}")
-    };
-    assert!(c.abs() <= 1.0 && p > 3.0, "other depths: {c} m, {p} m");
-    assert!(
-        person.error_m.is_none(),
-        "the person is vouched for, {p} m off"
-    );
-}

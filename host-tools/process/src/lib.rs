@@ -453,40 +453,34 @@ fn metamoran_frame(
     let radar = &bundle.scene.radar;
     let moving = metamoran::MovingScene::new(radar, samples)?;
     let beamwidth = metamoran::beamwidth_deg(&metamoran_dsp::array::VirtualArray::new(radar)?);
-    let weighed: Vec<metamoran::Weighed> = match module {
-        None => {
-            let mut scene =
-                metamoran::StaticScene::calibrated(radar, recorded, bundle.calibration())?;
-            objects
-                .iter()
-                .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
-                .collect()
-        }
-        Some(q) => {
-            let hints: Vec<_> = objects
-                .iter()
-                .map(|o| metamoran::wire_hint(frame, o))
-                .collect();
-            let wire: Vec<_> = hints.iter().flatten().cloned().collect();
-            // One result (or None) per sent hint, in order.
-            let mut results = q.frame(frame, &wire)?.into_iter();
-            objects
-                .iter()
-                .zip(&hints)
-                .map(|(o, h)| {
-                    let h = h.as_ref()?;
-                    Some(metamoran::weigh(
-                        o,
-                        &ObjectHint::from_wire(h),
-                        results.next().flatten(),
-                        moving.as_ref(),
-                        beamwidth,
-                    ))
-                })
-                .collect()
-        }
+    let Some(q) = module else {
+        let mut scene = metamoran::StaticScene::calibrated(radar, recorded, bundle.calibration())?;
+        return Ok(objects
+            .iter()
+            .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
+            .collect());
     };
-    Ok(metamoran::conclude(objects, weighed, beamwidth))
+    let hints: Vec<_> = objects
+        .iter()
+        .map(|o| metamoran::wire_hint(frame, o))
+        .collect();
+    let wire: Vec<_> = hints.iter().flatten().cloned().collect();
+    // One result (or None) per sent hint, in order.
+    let mut results = q.frame(frame, &wire)?.into_iter();
+    Ok(objects
+        .iter()
+        .zip(&hints)
+        .map(|(o, h)| match h {
+            Some(h) => metamoran::merge(
+                o,
+                &ObjectHint::from_wire(h),
+                results.next().flatten(),
+                moving.as_ref(),
+                beamwidth,
+            ),
+            None => ObjectEstimate::missed(o),
+        })
+        .collect())
 }
 
 /// Stops the module and returns what it reported, warning on stderr if it counted errors.

@@ -5,7 +5,7 @@
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
-use crate::trust::{Candidate, Claim, Evidence, Verdict, share_returns};
+use crate::trust::{Candidate, Evidence};
 use metamoran_bundle::geometry::{Point, azimuth, range_xz};
 use metamoran_dsp::clutter::peaks::{MAX_PEAKS, Peak};
 use metamoran_dsp::clutter::sic::{MAX_REFLECTORS, Reflector};
@@ -674,26 +674,24 @@ pub fn both_searches(
     Ok((fast, reference))
 }
 
-/// What the trust test weighed for one object: its evidence and verdict (`None` for an object
-/// the search could not take: no hint or no span).
-pub type Weighed = Option<(Evidence, Option<Verdict>)>;
-
-/// The Metamoran evidence for one object of a frame: the module's static search after clutter
-/// cancellation, in process (see [`weigh`]).
+/// The Metamoran estimate for one object of a frame: the module's static search after
+/// clutter cancellation, in process (see [`merge`]).
 pub fn estimate(
     scene: &mut StaticScene,
     moving: Option<&MovingScene>,
     obj: &CameraObject,
-) -> Weighed {
-    let p = prepare(scene, obj)?;
+) -> ObjectEstimate {
+    let Some(p) = prepare(scene, obj) else {
+        return ObjectEstimate::missed(obj);
+    };
     let on_module = fast_search(scene, &p).ok().map(|r| r.to_wire());
-    Some(weigh(
+    merge(
         obj,
         &p.hint,
         on_module,
         moving,
         beamwidth_deg(scene.edge.array()),
-    ))
+    )
 }
 
 /// Combines the module's answer for `obj` (in process or from the edge; `hint` as the module
@@ -701,53 +699,16 @@ pub fn estimate(
 /// object's azimuth, where the frame has Doppler: every candidate depth of both goes to the
 /// trust test ([`crate::trust`]), which weighs them against the camera's cues (the same bits
 /// from either edge).
-pub fn weigh(
+pub fn merge(
     obj: &CameraObject,
     hint: &ObjectHint,
     on_module: Option<WireResult>,
     moving: Option<&MovingScene>,
     beamwidth_deg: f64,
-) -> (Evidence, Option<Verdict>) {
+) -> ObjectEstimate {
     let found = moving.map_or_else(Vec::new, |mv| mv.search(hint));
     let evidence = evidence(obj, on_module.as_ref(), &found, beamwidth_deg);
     let verdict = evidence.judge();
-    (evidence, verdict)
-}
-
-/// The frame's estimates from what was weighed for each of its `objects` (in order): objects
-/// a beam apart that chose one reflection share it ([`share_returns`]), then each detected
-/// object's monocular points are anchored at its depth.
-pub fn conclude(
-    objects: &[CameraObject],
-    weighed: Vec<Weighed>,
-    beamwidth_deg: f64,
-) -> Vec<ObjectEstimate> {
-    let mut claims: Vec<Claim> = objects
-        .iter()
-        .zip(&weighed)
-        .map(|(obj, w)| Claim {
-            verdict: w.as_ref().and_then(|(_, v)| *v),
-            azimuth_deg: obj.span.map(|(l, r)| (0.5 * (l + r)).to_degrees()),
-        })
-        .collect();
-    share_returns(&mut claims, beamwidth_deg);
-    objects
-        .iter()
-        .zip(weighed)
-        .zip(claims)
-        .map(|((obj, w), claim)| match w {
-            Some((evidence, _)) => conclude_one(obj, evidence, claim.verdict),
-            None => ObjectEstimate::missed(obj),
-        })
-        .collect()
-}
-
-/// One object's estimate from its evidence and (shared) verdict.
-fn conclude_one(
-    obj: &CameraObject,
-    evidence: Evidence,
-    verdict: Option<Verdict>,
-) -> ObjectEstimate {
     let mut estimate = match verdict {
         Some(v) if v.detected() => {
             let points = reject_edges(obj.anchored(v.depth_m));
