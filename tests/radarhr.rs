@@ -153,7 +153,7 @@ fn the_imaging_network_completes_a_tunnel_it_never_saw() {
         &dirs[0],
         &MOUNT,
         Some(&complete),
-        Some(&metamoran_map::cylinder::Visibility::IMAGING_BEAM),
+        &metamoran_map::network::Board::Imaging.submap_options(),
     )
     .unwrap();
     let lidar = rep.lidar_pixels.unwrap().mae_m;

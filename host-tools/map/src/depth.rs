@@ -5,13 +5,23 @@
 
 use super::cylinder::{DepthImage, Visibility};
 use super::odometry::Odometry;
-use super::submap::accumulate;
+use super::submap::{Keep, accumulate_keeping};
 use crate::MapError;
 use std::path::Path;
 
 /// A network that completes a submap's depth image: row-major ranges (m, 0 = empty) in, the
 /// dense image out, or a message naming the model. See `metamoran_vision::RadarHr`.
 pub type Completion<'a> = &'a dyn Fn(&[f32]) -> Result<Vec<f32>, MapError>;
+
+/// How a frame's submap and images are made. The default keeps every point and cuts nothing
+/// (the paper's submap).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SubmapOptions {
+    /// Which earlier frames' points the submap keeps.
+    pub keep: Keep,
+    /// Whether the frame's and the submap's images are cut to what is visible, and how.
+    pub visibility: Option<Visibility>,
+}
 
 /// One frame's depth images.
 #[derive(Clone, Debug)]
@@ -35,20 +45,20 @@ pub struct DepthImages {
 /// # Panics
 /// If `k` is not a frame of `odometry`.
 pub fn submap(odometry: &Odometry, k: usize) -> (DepthImage, DepthImage, Vec<[f64; 3]>) {
-    submap_with(odometry, k, None)
+    submap_with(odometry, k, &SubmapOptions::default())
 }
 
-/// [`submap`] with both images cut to what is visible (`visibility`, where given).
+/// [`submap`] made as `options` say.
 ///
 /// # Panics
 /// If `k` is not a frame of `odometry`.
 pub fn submap_with(
     odometry: &Odometry,
     k: usize,
-    visibility: Option<&Visibility>,
+    options: &SubmapOptions,
 ) -> (DepthImage, DepthImage, Vec<[f64; 3]>) {
-    let points = accumulate(&odometry.tracked, 0, k);
-    let vis = |img: DepthImage| match visibility {
+    let points = accumulate_keeping(&odometry.tracked, 0, k, options.keep);
+    let vis = |img: DepthImage| match &options.visibility {
         Some(v) => img.visible(v),
         None => img,
     };
@@ -81,11 +91,10 @@ pub fn last(
     odometry: &Odometry,
     network: Option<Completion>,
 ) -> Result<Option<DepthImages>, MapError> {
-    last_with(dir, odometry, network, None)
+    last_with(dir, odometry, network, &SubmapOptions::default())
 }
 
-/// [`last`] with the frame's and the submap's images cut to what is visible (`visibility`,
-/// where given) before completion.
+/// [`last`] with the submap and the images made as `options` say, before completion.
 ///
 /// # Errors
 /// A lidar file that cannot be read, or the network's message.
@@ -93,12 +102,12 @@ pub fn last_with(
     dir: &Path,
     odometry: &Odometry,
     network: Option<Completion>,
-    visibility: Option<&Visibility>,
+    options: &SubmapOptions,
 ) -> Result<Option<DepthImages>, MapError> {
     let Some(k) = odometry.tracked.len().checked_sub(1) else {
         return Ok(None);
     };
-    let (frame, submap, submap_points) = submap_with(odometry, k, visibility);
+    let (frame, submap, submap_points) = submap_with(odometry, k, options);
     let ip_basic = DepthImage {
         range_m: super::ip_basic::complete(&submap.range_m),
     };
@@ -116,19 +125,19 @@ pub fn last_with(
 }
 
 /// Training pairs for the network: for every frame with lidar truth, `(frame, submap image,
-/// lidar image)`, the submap cut to what is visible where `visibility` is given.
+/// lidar image)`, the submap made as `options` say.
 ///
 /// # Errors
 /// A lidar file that cannot be read.
 pub fn training_pairs(
     dir: &Path,
     odometry: &Odometry,
-    visibility: Option<&Visibility>,
+    options: &SubmapOptions,
 ) -> Result<Vec<(u32, DepthImage, DepthImage)>, MapError> {
     let mut pairs = Vec::new();
     for k in 0..odometry.tracked.len() {
         if let Some(truth) = lidar(dir, k as u32)? {
-            pairs.push((k as u32, submap_with(odometry, k, visibility).1, truth));
+            pairs.push((k as u32, submap_with(odometry, k, options).1, truth));
         }
     }
     Ok(pairs)

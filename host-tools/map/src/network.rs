@@ -4,6 +4,8 @@
 
 use crate::MapError;
 use crate::cylinder::Visibility;
+use crate::depth::SubmapOptions;
+use crate::submap::Keep;
 use metamoran_bundle::{Bundle, OpenOptions};
 use std::path::Path;
 
@@ -15,7 +17,8 @@ pub enum Board {
     /// phase difference).
     Small,
     /// A 2D aperture of three or more elevation rows (the 4D imaging board). Its network was
-    /// trained on submaps cut to what is visible ([`Visibility::IMAGING_BEAM`]).
+    /// trained on submaps cut to what is visible ([`Visibility::IMAGING_BEAM`]) that keep only
+    /// the earlier points the frame sees again ([`Keep::SEEN_AGAIN`]).
     Imaging,
 }
 
@@ -33,15 +36,23 @@ impl Board {
         })
     }
 
-    /// The visibility cut this board's shipped network was trained with: the imaging beam's on
-    /// the imaging board, none on the small board.
-    pub fn visibility(self) -> Option<&'static Visibility> {
+    /// The submaps this board's shipped network was trained on: every point and no cut on the
+    /// small board; on the imaging board, cut to what the imaging beam sees and keeping
+    /// [`IMAGING_KEEP`] of the earlier points.
+    pub fn submap_options(self) -> SubmapOptions {
         match self {
-            Self::Small => None,
-            Self::Imaging => Some(&Visibility::IMAGING_BEAM),
+            Self::Small => SubmapOptions::default(),
+            Self::Imaging => SubmapOptions {
+                keep: IMAGING_KEEP,
+                visibility: Some(Visibility::IMAGING_BEAM),
+            },
         }
     }
 }
+
+/// Which earlier points the imaging board's submaps keep: those the frame sees again (issue
+/// #21, part 2; README "Submaps that keep what the frame sees again").
+pub const IMAGING_KEEP: Keep = Keep::SEEN_AGAIN;
 
 /// A loaded depth-completion network.
 pub struct CompletionNetwork {

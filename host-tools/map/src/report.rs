@@ -224,7 +224,7 @@ pub fn run(
     mount: &Mount,
     network: Option<Completion>,
 ) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
-    run_with(dir, mount, network, None)
+    run_with(dir, mount, network, &depth::SubmapOptions::default())
 }
 
 /// [`run`] with the depth images cut to what is visible ([`depth::last_with`]).
@@ -235,10 +235,10 @@ pub fn run_with(
     dir: &Path,
     mount: &Mount,
     network: Option<Completion>,
-    visibility: Option<&crate::cylinder::Visibility>,
+    options: &depth::SubmapOptions,
 ) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
     let odometry = odometry::run(dir, mount)?;
-    let images = depth::last_with(dir, &odometry, network, visibility)?;
+    let images = depth::last_with(dir, &odometry, network, options)?;
     let network_fps = match (network, &images) {
         (Some(n), Some(im)) => {
             let start = Instant::now();

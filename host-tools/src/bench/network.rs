@@ -58,7 +58,7 @@ pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
         Board::Small => (RadarKind::Xwr18xx, "small"),
         Board::Imaging => (RadarKind::Imaging, "imaging"),
     };
-    let visibility = board.visibility();
+    let options = board.submap_options();
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(Preset::Drive, kind, 77, SCENES, dir.path(), &|| ())?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
@@ -67,7 +67,7 @@ pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
         let o = odometry::run(b, &MOUNT)?;
         let n = o.tracked.len();
         let submaps: Vec<_> = (0..n)
-            .map(|k| depth::submap_with(&o, k, visibility).1)
+            .map(|k| depth::submap_with(&o, k, &options).1)
             .collect();
         path_ms += t.elapsed().as_secs_f64() * 1e3;
         frames += n;

@@ -3,6 +3,7 @@
 use super::odometry::figure;
 use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::report::MapReport;
+use metamoran_map::submap::Keep;
 use metamoran_map::{cylinder, depth, report};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -42,6 +43,12 @@ pub struct Args {
     /// `--visibility` alone is `on`.
     #[arg(long, value_enum, default_value_t = Cut::Auto, num_args = 0..=1, default_missing_value = "on")]
     visibility: Cut,
+    /// Which earlier frames' points the submap keeps: `all`, or `seen-again`, only those within
+    /// 0.5 m of one of the last frame's points (a consistency check across frames: what has
+    /// since been hidden, or was a ghost, stays out). `auto` is what the board's shipped
+    /// network was trained on.
+    #[arg(long, value_enum, default_value_t = KeepArg::Auto)]
+    keep: KeepArg,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
@@ -58,6 +65,17 @@ pub enum Cut {
     Off,
 }
 
+/// `map --keep`: which earlier points the submap keeps.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KeepArg {
+    /// What the board's shipped network was trained on.
+    Auto,
+    /// Every static point of every frame.
+    All,
+    /// Only those the last frame sees again within 0.5 m.
+    SeenAgain,
+}
+
 /// Runs `metamoran map`.
 ///
 /// # Errors
@@ -68,16 +86,24 @@ pub fn run(args: &Args) -> super::Result {
         .then(|| CompletionNetwork::load(args.model.as_deref(), board))
         .transpose()?;
     let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
-    let visibility = match args.visibility {
-        Cut::Auto => board.visibility(),
-        Cut::On => Some(&cylinder::Visibility::IMAGING_BEAM),
-        Cut::Off => None,
+    let auto = board.submap_options();
+    let options = depth::SubmapOptions {
+        visibility: match args.visibility {
+            Cut::Auto => auto.visibility,
+            Cut::On => Some(cylinder::Visibility::IMAGING_BEAM),
+            Cut::Off => None,
+        },
+        keep: match args.keep {
+            KeepArg::Auto => auto.keep,
+            KeepArg::All => Keep::All,
+            KeepArg::SeenAgain => Keep::SEEN_AGAIN,
+        },
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
         &metamoran_sim::drive::MOUNT,
         complete.as_ref().map(|c| c as depth::Completion),
-        visibility,
+        &options,
     )?;
     let out = &args.out;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create ({e})", out.display()))?;
@@ -98,7 +124,7 @@ pub fn run(args: &Args) -> super::Result {
         let pairs = out.join("pairs");
         std::fs::create_dir_all(&pairs)
             .map_err(|e| format!("{}: cannot create ({e})", pairs.display()))?;
-        for (k, submap, truth) in depth::training_pairs(&args.bundle, &odometry, visibility)? {
+        for (k, submap, truth) in depth::training_pairs(&args.bundle, &odometry, &options)? {
             png(out, &format!("pairs/submap_{k:06}.png"), &submap)?;
             png(out, &format!("pairs/lidar_{k:06}.png"), &truth)?;
         }
