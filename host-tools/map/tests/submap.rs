@@ -1,8 +1,8 @@
 //! Submaps that keep only what the last frame sees again (issue #21, part 2): on a parking area
-//! seen by the 4D imaging board, the earlier frames' points the last frame no longer sees (walls
-//! now behind parked cars the radar reports weakly, points seen past them from other poses) are
-//! what make the all-points submap worse than its own frame. Judged against the lidar truth's
-//! image, which the submap never sees.
+//! seen by the 4D imaging board, the earlier frames' points the last frame no longer sees (since
+//! hidden by something the radar does not report, or ghosts) are what make the all-points
+//! submap worse than its own frame. Judged against the lidar truth's image, which the submap
+//! never sees.
 
 use metamoran_map::cylinder::Visibility;
 use metamoran_map::depth::{SubmapOptions, last_with};
