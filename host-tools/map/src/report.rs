@@ -227,7 +227,7 @@ pub fn run(
     run_with(dir, mount, network, &depth::SubmapOptions::default())
 }
 
-/// [`run`] with the depth images cut to what is visible ([`depth::last_with`]).
+/// [`run`] with the submap and the depth images made as `options` say ([`depth::last_with`]).
 ///
 /// # Errors
 /// As [`run`].

@@ -53,24 +53,25 @@ pub fn accumulate_keeping(
     last: usize,
     keep: Keep,
 ) -> Vec<[f64; 3]> {
-    let mut points = accumulate(frames, first, last);
-    if let Keep::SeenAgain { within_m } = keep {
-        let now = &frames[last].1;
-        let near = |p: &[f64; 3]| {
-            now.iter().any(|q| {
-                (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)
-                    <= within_m * within_m
-            })
-        };
-        // The current frame's own points are the last ones `accumulate` returns: all stay.
-        let earlier = points.len() - now.len();
-        let mut k = 0;
-        points.retain(|p| {
-            k += 1;
-            k > earlier || near(p)
-        });
-    }
-    points
+    let points = accumulate(frames, first, last);
+    let Keep::SeenAgain { within_m } = keep else {
+        return points;
+    };
+    let now = &frames[last].1;
+    let near = |p: &&[f64; 3]| {
+        now.iter().any(|q| {
+            (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)
+                <= within_m * within_m
+        })
+    };
+    // The current frame's own points are the last ones `accumulate` returns: all stay.
+    let (earlier, current) = points.split_at(points.len() - now.len());
+    earlier
+        .iter()
+        .filter(near)
+        .chain(current)
+        .copied()
+        .collect()
 }
 
 /// The density growth factor of a submap over its last frame (`None` if the frame is empty).
