@@ -15,7 +15,7 @@ use std::path::Path;
 use std::time::Duration;
 
 /// Where a live stream arrives and how long it lasts.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Link {
     /// This host's address and data port the board sends its samples to.
     pub addr: SocketAddr,
@@ -28,6 +28,10 @@ pub struct Link {
     pub start: Duration,
     /// How long without a packet ends the stream.
     pub idle: Duration,
+    /// Called once the socket is bound, with the address it listens on (the port the OS chose
+    /// when `addr`'s port is 0), before the first packet is awaited: a sender started after it
+    /// cannot race the bind.
+    pub on_listen: fn(SocketAddr),
 }
 
 /// A stream recorded for a bundle: the capture to open it with, and what arrived.
@@ -61,6 +65,7 @@ impl Link {
                 self.addr
             )
         })?;
+        (self.on_listen)(rx.local_addr()?);
         let timeouts = (self.start, self.idle);
         let rec = match (self.control, self.from) {
             (true, Some(ip)) => {
@@ -100,6 +105,7 @@ impl Link {
     ///     control: false,
     ///     start: Duration::from_secs(10),
     ///     idle: Duration::from_millis(500),
+    ///     on_listen: |_| (),
     /// };
     /// let (to, sent) = (link.addr, bytes.clone());
     /// let board = std::thread::spawn(move || {

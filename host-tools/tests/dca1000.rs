@@ -4,10 +4,9 @@
 //! runs the demo as its file does; a frame that does not arrive whole is skipped, the others
 //! kept.
 
-use std::net::UdpSocket;
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::time::Duration;
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_metamoran")
@@ -21,44 +20,58 @@ fn real(file: &str) -> PathBuf {
         .join(file)
 }
 
-/// A free loopback UDP port.
-fn free_port() -> u16 {
-    UdpSocket::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
+/// The listener's address: `--dca1000` with port 0, so the OS picks a free one that the
+/// listener holds from the start (a probed "free" port could be taken by another test's
+/// sending socket before the listener binds it).
+const ANY_PORT: &str = "127.0.0.1:0";
 
-/// Runs `listen` (a receiving command on `port`) and, once it is bound, `send` (an emulator
-/// command).
-fn listen_while_sending(port: u16, listen: &[&str], send: &[&str]) -> Output {
+/// Runs `listen` (a receiving command, with `--dca1000 127.0.0.1:0`) and, once it says on
+/// stderr where it listens, `send` (an emulator command) with `--to` that address.
+fn listen_while_sending(listen: &[&str], send: &[&str]) -> Output {
     let mut child = Command::new(bin())
         .args(listen)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let until = std::time::Instant::now() + Duration::from_secs(120);
-    while UdpSocket::bind(("127.0.0.1", port)).is_ok() {
-        if child.try_wait().unwrap().is_some() || std::time::Instant::now() > until {
-            break; // it failed before listening: its output says why
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let (mut seen, mut line) = (String::new(), String::new());
+    let at = loop {
+        line.clear();
+        if stderr.read_line(&mut line).unwrap() == 0 {
+            break None; // it failed before listening: its output says why
         }
-        std::thread::sleep(Duration::from_millis(20));
+        seen.push_str(&line);
+        if let Some(at) = line
+            .trim()
+            .strip_prefix("listening for the DCA1000's samples on ")
+        {
+            break Some(at.to_owned());
+        }
+    };
+    let rest = std::thread::spawn(move || {
+        let mut rest = String::new();
+        stderr.read_to_string(&mut rest).map(|_| rest)
+    });
+    if let Some(at) = at {
+        let sent = Command::new(bin())
+            .args([send, &["--to", &at]].concat())
+            .output()
+            .unwrap();
+        assert!(
+            sent.status.success(),
+            "{}",
+            String::from_utf8_lossy(&sent.stderr)
+        );
     }
-    let sent = Command::new(bin()).args(send).output().unwrap();
-    assert!(
-        sent.status.success(),
-        "{}",
-        String::from_utf8_lossy(&sent.stderr)
-    );
-    child.wait_with_output().unwrap()
+    let mut out = child.wait_with_output().unwrap();
+    seen.push_str(&rest.join().unwrap().unwrap());
+    out.stderr = seen.into_bytes();
+    out
 }
 
 #[test]
 fn record_writes_the_replayed_session_as_its_adc_data() {
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
     let out = tempfile::tempdir().unwrap();
     let file = out.path().join("capture.bin");
     let (cfg, pcap) = (
@@ -66,11 +79,10 @@ fn record_writes_the_replayed_session_as_its_adc_data() {
         real("test_one_frame.pcap"),
     );
     let o = listen_while_sending(
-        port,
         &[
             "record",
             "--dca1000",
-            &to,
+            ANY_PORT,
             "--config",
             cfg.to_str().unwrap(),
             "--idle-s",
@@ -79,7 +91,7 @@ fn record_writes_the_replayed_session_as_its_adc_data() {
             file.to_str().unwrap(),
             "--json",
         ],
-        &["dca1000-emulate", pcap.to_str().unwrap(), "--to", &to],
+        &["dca1000-emulate", pcap.to_str().unwrap()],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(
@@ -95,8 +107,6 @@ fn record_writes_the_replayed_session_as_its_adc_data() {
 
 #[test]
 fn a_live_stream_summarizes_as_its_file() {
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
     let capture = real("adc_data.bin");
     let toml = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../tests/data/real/mmwave_capture_std_one_frame.toml");
@@ -108,13 +118,10 @@ fn a_live_stream_summarizes_as_its_file() {
         "--json",
     ];
     let o = listen_while_sending(
-        port,
-        &[&["summarize", "--dca1000", &to][..], &args].concat(),
+        &[&["summarize", "--dca1000", ANY_PORT][..], &args].concat(),
         &[
             "dca1000-emulate",
             capture.to_str().unwrap(),
-            "--to",
-            &to,
             "--mbps",
             "200",
         ],
@@ -156,18 +163,12 @@ fn perimeter(dir: &Path) -> PathBuf {
     dir.join("perimeter-3-0000")
 }
 
-/// `metamoran ARGS --dca1000 PORT --idle-s 0.5` while `dca1000-emulate CAPTURE` (with `send`
-/// flags) streams to it on a free loopback port.
+/// `metamoran ARGS --dca1000 127.0.0.1:0 --idle-s 0.5` while `dca1000-emulate CAPTURE` (with
+/// `send` flags) streams to it on loopback.
 fn live(args: &[&str], capture: &Path, send: &[&str]) -> Output {
-    let port = free_port();
-    let to = format!("127.0.0.1:{port}");
-    let listen = [args, &["--dca1000", &to, "--idle-s", "0.5"]].concat();
-    let emulate = [
-        &["dca1000-emulate", capture.to_str().unwrap(), "--to", &to][..],
-        send,
-    ]
-    .concat();
-    listen_while_sending(port, &listen, &emulate)
+    let listen = [args, &["--dca1000", ANY_PORT, "--idle-s", "0.5"]].concat();
+    let emulate = [&["dca1000-emulate", capture.to_str().unwrap()][..], send].concat();
+    listen_while_sending(&listen, &emulate)
 }
 
 /// Command arguments as `&str`s.

@@ -286,7 +286,8 @@ impl CaptureArgs {
 #[derive(clap::Args, Clone, Debug)]
 pub struct LinkArgs {
     /// Take the radar samples from a live DCA1000 stream: this host's address and data port the
-    /// board sends to (192.168.33.30:4098 on TI's default setup).
+    /// board sends to (192.168.33.30:4098 on TI's default setup). The address listened on is
+    /// printed on stderr once bound (with port 0, the one the OS chose).
     #[arg(long, value_name = "ADDR")]
     pub dca1000: Option<SocketAddr>,
     /// The board's IP: packets from elsewhere are dropped and counted.
@@ -322,6 +323,7 @@ impl LinkArgs {
             control: self.control,
             start: seconds(self.start_s, "--start-s")?,
             idle: seconds(self.idle_s, "--idle-s")?,
+            on_listen: |at| eprintln!("listening for the DCA1000's samples on {at}"),
         }))
     }
 
