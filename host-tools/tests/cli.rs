@@ -333,3 +333,54 @@ fn a_reader_that_goes_away_ends_the_run_quietly() {
     assert_eq!(out.status.code(), Some(141), "{}", stderr(&out));
     assert!(!stderr(&out).contains("panicked"), "{}", stderr(&out));
 }
+
+#[test]
+fn eval_writes_its_samples_into_a_folder_it_creates() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundles = dir.path().join("bundles");
+    let o = metamoran(&[
+        "simulate",
+        "--preset",
+        "parking-lot",
+        "--radar",
+        "xwr18xx",
+        "--seed",
+        "5",
+        "--out",
+        bundles.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let samples = dir.path().join("not/yet/there/samples.json");
+    let o = metamoran(&[
+        "eval",
+        bundles.to_str().unwrap(),
+        "--modes",
+        "naive",
+        "--json",
+        "--samples",
+        samples.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&samples).unwrap()).unwrap();
+    // One sample per object the bundle's truth lists, each naming its bundle.
+    let truth: serde_json::Value = serde_json::from_slice(
+        &std::fs::read(bundles.join("parking-lot-5-0000/truth.json")).unwrap(),
+    )
+    .unwrap();
+    let objects: usize = truth["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["objects"].as_array().unwrap().len())
+        .sum();
+    let rows = written.as_array().unwrap();
+    assert!(
+        objects > 0 && rows.len() == objects,
+        "{objects} objects, {rows:?}"
+    );
+    assert!(
+        rows.iter().all(|r| r["bundle"] == "parking-lot-5-0000"),
+        "{rows:?}"
+    );
+}

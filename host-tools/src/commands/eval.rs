@@ -23,7 +23,7 @@ pub struct Args {
     #[arg(long)]
     json: bool,
     /// Also write every object's sample (error, confidence, the trust test's evidence) to this
-    /// JSON file: the input of `scripts/calibrate-trust.py`.
+    /// JSON file (its folder is created): the input of `scripts/calibrate-trust.py`.
     #[arg(long, value_name = "FILE")]
     samples: Option<PathBuf>,
 }
@@ -41,8 +41,12 @@ pub fn run(args: &Args) -> super::Result {
     bar.finish_and_clear();
     if let Some(path) = &args.samples {
         let text = serde_json::to_string(&samples)?;
-        std::fs::write(path, text)
-            .map_err(|e| format!("cannot write the samples to {}: {e}", path.display()))?;
+        let cannot =
+            |e: std::io::Error| format!("cannot write the samples to {}: {e}", path.display());
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(cannot)?;
+        }
+        std::fs::write(path, text).map_err(cannot)?;
     }
     super::print(&report, args.json)?;
     if report.failed.is_empty() {
