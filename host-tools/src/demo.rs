@@ -451,11 +451,12 @@ pub fn run(out: &Path, options: &DemoOptions) -> Result<DemoReport, crate::Error
         mqtt: published,
         nats: nats_words,
         radar: stream.as_ref().zip(dca1000.as_ref()).map(|(s, link)| {
+            let at = s.recording.local.unwrap_or(link.addr);
             let (r, a) = (&s.recording, s.recording.counters.assembly);
             format!(
                 "DCA1000 stream on {}: {} frame(s) received, {} not whole (skipped); {} \
                  packet(s), {} lost, {} reordered, {} duplicate(s)",
-                link.addr,
+                at,
                 r.frames,
                 s.capture.incomplete.len(),
                 a.packets,

@@ -385,6 +385,16 @@ fn the_demo_takes_a_live_stream_as_its_radar() {
         radar.contains("22 frame(s) received, 0 not whole"),
         "{radar}"
     );
+    // It names the address the OS gave the listener, not the port 0 it was asked for.
+    let err = String::from_utf8_lossy(&streamed.stderr);
+    let at = err
+        .lines()
+        .find_map(|l| l.strip_prefix("listening for the DCA1000's samples on "))
+        .unwrap();
+    assert!(
+        !at.ends_with(":0") && radar.starts_with(&format!("DCA1000 stream on {at}:")),
+        "{radar}"
+    );
     assert_eq!(
         std::fs::read(second.join("results.json")).unwrap(),
         std::fs::read(first.join("results.json")).unwrap()

@@ -21,6 +21,8 @@ pub struct Recording {
     pub seconds: f64,
     /// The receiver's counters.
     pub counters: Counters,
+    /// The address the receiver listened on (`None` if the OS could not say).
+    pub local: Option<std::net::SocketAddr>,
 }
 
 /// What to do with a frame that is not whole.
@@ -65,6 +67,7 @@ pub fn record(
     }
     out.flush()?;
     r.counters = rx.counters();
+    r.local = rx.local_addr().ok();
     Ok(r)
 }
 
