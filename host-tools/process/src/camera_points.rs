@@ -1,6 +1,7 @@
 //! What the camera says about each object: its masked monocular points in the radar frame and
 //! the azimuth span they cover.
 
+use crate::ground::{Contact, GroundPlane, stands_on_ground};
 use metamoran_bundle::CameraFrame;
 use metamoran_bundle::geometry::{CameraModel, Point, azimuth, range_xz};
 
@@ -22,6 +23,9 @@ pub struct CameraObject {
     pub extent: Option<VerticalExtent>,
     /// Share of the mask's pixels with a monocular depth, 0–1 (0 for an empty mask).
     pub depth_coverage: f64,
+    /// Where the object meets the frame's ground plane, for a class that stands on it and a
+    /// mask the image does not cut ([`crate::ground`]).
+    pub contact: Option<Contact>,
 }
 
 /// How tall a mask looks: the slopes `y / √(x² + z²)` (y down, radar frame) of its highest and
@@ -116,7 +120,8 @@ impl CameraObject {
 }
 
 /// The objects of interest of a frame, in id order. Pixels without a monocular depth still
-/// count for the azimuth span (back-projected at 20 m).
+/// count for the azimuth span (back-projected at 20 m). The ground plane is fitted once per
+/// frame with a car or a person in it.
 pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<CameraObject> {
     let mut out: Vec<CameraObject> = frame
         .instances
@@ -129,6 +134,7 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
             span: None,
             extent: None,
             depth_coverage: 0.0,
+            contact: None,
         })
         .collect();
     out.sort_by_key(|o| o.instance);
@@ -168,7 +174,20 @@ pub fn objects_of_interest(camera: &CameraModel, frame: &CameraFrame) -> Vec<Cam
             o.points.push(p);
         }
     }
+    let ground = if out.iter().any(|o| stands_on_ground(&o.class)) {
+        GroundPlane::fit(camera, frame)
+    } else {
+        None
+    };
     for (o, &n) in out.iter_mut().zip(&pixels) {
+        o.contact = ground
+            .zip(o.extent)
+            .zip(o.span)
+            .and_then(|((g, e), (lo, hi))| {
+                (stands_on_ground(&o.class) && !e.clipped)
+                    .then(|| Contact::of(&g, camera.centre(), e.bottom, e.pitch, (lo + hi) / 2.0))
+                    .flatten()
+            });
         o.depth_coverage = o.points.len() as f64 / n.max(1) as f64;
         if o.points.len() > MAX_POINTS {
             let step = o.points.len().div_ceil(MAX_POINTS);
@@ -212,6 +231,7 @@ mod tests {
             points,
             span: Some((0.0, 0.0)),
             extent: None,
+            contact: None,
             depth_coverage: 1.0,
         };
         // 111 points: the 2 % share skips index 0 and 1 (5 m, 20 m).

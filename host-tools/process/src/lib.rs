@@ -13,6 +13,7 @@ pub mod camera_points;
 mod error;
 pub mod eval;
 pub mod frame;
+pub mod ground;
 pub mod inspect;
 pub mod metamoran;
 pub mod monocular;
