@@ -726,7 +726,7 @@ pub fn merge(
 }
 
 /// What the trust test weighs for `obj`: the candidates of the module's answer and of the
-/// Doppler path's answers (each with its velocity, m/s), and the camera's two cues.
+/// Doppler path's answers (each with its velocity, m/s), and the camera's three cues.
 pub fn evidence(
     obj: &CameraObject,
     on_module: Option<&WireResult>,
@@ -743,6 +743,7 @@ pub fn evidence(
         height: obj
             .extent
             .and_then(|e| crate::trust::HeightCue::of(&obj.class, &e)),
+        ground: obj.contact,
         beamwidth_deg,
         extent_m: crate::camera_points::depth_extent(&obj.class),
     }
