@@ -4,6 +4,7 @@
 //! either board's drive scenes.
 
 use metamoran_map::network::{Board, CompletionNetwork};
+use metamoran_map::submap::Keep;
 use metamoran_map::{depth, odometry};
 use metamoran_sim::{drive::MOUNT, layout::Preset, radar::RadarKind, simulate};
 use serde::Serialize;
@@ -21,6 +22,8 @@ pub struct NetworkReport {
     pub board: &'static str,
     /// Submaps timed.
     pub submaps: usize,
+    /// Which earlier points the submaps kept: `all` or `seen again`.
+    pub keep: &'static str,
     /// Network, ms per 320 × 80 image.
     pub network_ms: f64,
     /// IP-Basic (the baseline), ms per image.
@@ -48,17 +51,21 @@ fn per_run<E: Into<crate::Error>>(
 }
 
 /// Runs on [`SCENES`] simulated drive scenes of `board` with the network shipped for it (the
-/// imaging board's submaps cut to what is visible, as `map` does by default).
+/// imaging board's submaps cut to what is visible, as `map` does by default), the submaps
+/// keeping the earlier points `keep` says.
 ///
 /// # Errors
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
-pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
+pub fn run(board: Board, keep: Keep) -> Result<NetworkReport, crate::Error> {
     let network = CompletionNetwork::load(None, board)?;
     let (kind, name) = match board {
         Board::Small => (RadarKind::Xwr18xx, "small"),
         Board::Imaging => (RadarKind::Imaging, "imaging"),
     };
-    let options = board.submap_options();
+    let options = depth::SubmapOptions {
+        keep,
+        ..board.submap_options()
+    };
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(Preset::Drive, kind, 77, SCENES, dir.path(), &|| ())?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
@@ -84,6 +91,10 @@ pub fn run(board: Board) -> Result<NetworkReport, crate::Error> {
     Ok(NetworkReport {
         board: name,
         submaps: bundles.len(),
+        keep: match keep {
+            Keep::All => "all",
+            Keep::SeenAgain { .. } => "seen again",
+        },
         network_ms,
         ip_basic_ms,
         ratio: network_ms / ip_basic_ms,
@@ -97,8 +108,9 @@ impl std::fmt::Display for NetworkReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         writeln!(
             f,
-            "Depth completion of a 320 × 80 drive submap, {} board ({} submaps, {} runs each)",
-            self.board, self.submaps, REPEATS
+            "Depth completion of a 320 × 80 drive submap, {} board ({} submaps, {} runs each; \
+             earlier points kept: {})",
+            self.board, self.submaps, REPEATS, self.keep
         )?;
         writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
         writeln!(

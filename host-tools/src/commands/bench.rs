@@ -46,6 +46,10 @@ enum What {
         /// 4D board: 192 channels per frame, its own network).
         #[arg(long, value_enum, default_value_t = BenchBoard::Small)]
         board: BenchBoard,
+        /// Which earlier points the submaps keep: the board's own rule (`auto`), `all` or
+        /// `seen-again` (what the check costs, in the same run).
+        #[arg(long, value_enum, default_value_t = super::map::KeepArg::Auto)]
+        keep: super::map::KeepArg,
     },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]
@@ -124,12 +128,13 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         What::FftM7 { json } => super::print(&bench::m7::run(&locations.firmware()?)?, *json),
         What::Search { json } => super::print(&bench::search::run()?, *json),
         What::Dca1000 { json, mbytes } => super::print(&bench::dca1000::run(*mbytes)?, *json),
-        What::Network { json, board } => {
+        What::Network { json, board, keep } => {
             let board = match board {
                 BenchBoard::Small => Board::Small,
                 BenchBoard::Imaging => Board::Imaging,
             };
-            super::print(&bench::network::run(board)?, *json)
+            let keep = keep.rule(board.submap_options().keep);
+            super::print(&bench::network::run(board, keep)?, *json)
         }
         What::Site {
             json,

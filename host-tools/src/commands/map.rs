@@ -76,6 +76,17 @@ pub enum KeepArg {
     SeenAgain,
 }
 
+impl KeepArg {
+    /// The rule, with `auto` the board's.
+    pub fn rule(self, auto: Keep) -> Keep {
+        match self {
+            Self::Auto => auto,
+            Self::All => Keep::All,
+            Self::SeenAgain => Keep::SEEN_AGAIN,
+        }
+    }
+}
+
 /// Runs `metamoran map`.
 ///
 /// # Errors
@@ -93,11 +104,7 @@ pub fn run(args: &Args) -> super::Result {
             Cut::On => Some(cylinder::Visibility::IMAGING_BEAM),
             Cut::Off => None,
         },
-        keep: match args.keep {
-            KeepArg::Auto => auto.keep,
-            KeepArg::All => Keep::All,
-            KeepArg::SeenAgain => Keep::SEEN_AGAIN,
-        },
+        keep: args.keep.rule(auto.keep),
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
