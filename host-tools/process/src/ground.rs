@@ -1,6 +1,6 @@
-//! The ground the camera sees, and the range it gives an object standing on it: the third
-//! camera cue of the trust test ([`crate::trust`]), after the monocular range and the mask's
-//! apparent height.
+//! The ground the camera sees, and the range it gives an object standing on it: the trust
+//! test's check of a chosen depth ([`crate::trust`]), beside the monocular range and the
+//! mask's apparent height that choose it.
 //!
 //! ```text
 //! near ground pixels (no instance, 2–15 m, monocular depth) ─▶ plane y = h + b·z ─┐
@@ -121,20 +121,16 @@ impl GroundPlane {
                 }
             }
         }
-        let mut fit = None;
         for _ in 0..3 {
             if pairs.len() < MIN_PIXELS {
                 return None;
             }
             let (a, b) = line(&pairs)?;
             let mut dev: Vec<f64> = pairs.iter().map(|&(z, y)| (y - a - b * z).abs()).collect();
-            let mad = median(&mut dev);
-            let keep = (3.0 * 1.4826 * mad).max(0.02);
+            let keep = (3.0 * 1.4826 * median(&mut dev)).max(0.02);
             pairs.retain(|&(z, y)| (y - a - b * z).abs() <= keep);
-            fit = Some((a, b, mad));
         }
-        let (height_m, tilt, _) = fit?;
-        let (height_m, tilt) = line(&pairs).unwrap_or((height_m, tilt));
+        let (height_m, tilt) = line(&pairs)?;
         let mut dev: Vec<f64> = pairs
             .iter()
             .map(|&(z, y)| (y - height_m - tilt * z).abs())
