@@ -261,6 +261,36 @@ fn far_movers_are_found_to_300_m() {
     );
 }
 
+/// A far car's strongest return in its Doppler bin is often its body, metres behind the closest
+/// point the depth is about, and its mask (a few pixels) gives the template no shape to place
+/// the closest point with: the Doppler path reports the mover's leading edge too
+/// (`metamoran_process::lead`). On the 8-element board's far movers of this seed, without it a
+/// car at 4.1 m behind its closest point was reported as detected; with it no detected car is
+/// more than 3 m off (and 15 of the 22 are detected).
+#[test]
+fn a_far_car_is_reported_at_its_closest_point_not_its_body() {
+    let tmp = tempfile::tempdir().unwrap();
+    simulate(
+        Preset::FarMoving,
+        RadarKind::Xwr18xx,
+        90_177,
+        32,
+        tmp.path(),
+        &|| (),
+    )
+    .unwrap();
+    let (_, samples) = eval::run(tmp.path(), &[Mode::Metamoran], &|| ()).unwrap();
+    let cars: Vec<&eval::Sample> = samples.iter().filter(|s| s.class == "car").collect();
+    let detected: Vec<f64> = cars.iter().filter_map(|s| s.error_m).collect();
+    println!("{} cars, detected errors {detected:?}", cars.len());
+    assert!(cars.len() >= 20, "{} cars", cars.len());
+    assert!(detected.len() >= 12, "{} detected", detected.len());
+    assert!(
+        detected.iter().all(|e| e.abs() <= 3.0),
+        "confidently wrong cars: {detected:?}"
+    );
+}
+
 /// A car at 241 m, past the 256 m the depth image holds once its monocular error is added: only
 /// its mask's grown bottom row has a depth, the ground's, whose spread across the mask is
 /// metres. Taken for the car's contour it put the depth 3.8 m in front of the car (detected, at

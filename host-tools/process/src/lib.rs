@@ -15,6 +15,7 @@ pub mod eval;
 pub mod frame;
 pub mod ground;
 pub mod inspect;
+pub mod lead;
 pub mod metamoran;
 pub mod monocular;
 pub mod naive;

@@ -5,6 +5,7 @@
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
+use crate::lead::{Lead, leading_edge};
 use crate::trust::{Candidate, Evidence};
 use metamoran_bundle::geometry::{Point, azimuth, range_xz};
 use metamoran_dsp::clutter::peaks::{MAX_PEAKS, Peak};
@@ -388,8 +389,9 @@ impl MovingScene {
     /// The depth search on each of the [`DOPPLER_BINS`] Doppler bins holding most energy at the
     /// object's azimuth, as the module would report it, without the candidates that are another
     /// direction's reflection ([`Self::reflects_elsewhere`]); each with the radial velocity of
-    /// its bin and alias, m/s.
-    fn search(&self, hint: &ObjectHint) -> Vec<(WireResult, f64)> {
+    /// its bin and alias, m/s, and, given the object's depth extent `lead_within_m`, the
+    /// mover's leading edge within it in front of its strongest return ([`leading_edge`]).
+    fn search(&self, hint: &ObjectHint, lead_within_m: Option<f64>) -> Vec<DopplerAnswer> {
         let bins = self.edge.bins(hint);
         let s_mid = (hint.span.0 + hint.span.1) / 2.0;
         let (first, last) = (bins.0 as usize, bins.1 as usize);
@@ -397,19 +399,25 @@ impl MovingScene {
             .into_iter()
             .filter_map(|q| {
                 let focus = self.focus(q, s_mid, first, last);
-                let result = self.search_focused(hint, bins, &focus)?;
-                Some((result, self.velocity_mps(focus.q, focus.alias)))
+                let (result, lead) = self.search_focused(hint, bins, &focus, lead_within_m)?;
+                Some(DopplerAnswer {
+                    result,
+                    velocity_mps: self.velocity_mps(focus.q, focus.alias),
+                    lead,
+                })
             })
             .collect()
     }
 
-    /// The search on one focused Doppler bin.
+    /// The search on one focused Doppler bin, and the leading edge of its strongest candidate
+    /// within `lead_within_m` (none without).
     fn search_focused(
         &self,
         hint: &ObjectHint,
         bins: (f32, f32),
         focus: &Focus,
-    ) -> Option<WireResult> {
+        lead_within_m: Option<f64>,
+    ) -> Option<(WireResult, Option<Lead>)> {
         let (words, exponent) = pack_elements(&self.edge, &focus.spectra, self.m);
         let spectra =
             Spectra::from_words(&words, self.edge.array().elements(), self.m, exponent).ok()?;
@@ -433,6 +441,23 @@ impl MovingScene {
             let bin = (depth_m / bin_m).round().max(0.0) as usize;
             self.reflects_elsewhere(focus.q, bin, hint.span)
         };
+        // The mover's range profile over its span: the contour's directions without their
+        // relative ranges (with them, the template moved forward by its own depth extent
+        // lines its far points up with the closest return, a ghost in front).
+        let lead = lead_within_m.and_then(|extent_m| {
+            let flat = Contour::new(hint.contour.points().iter().map(|p| (p.sin_az, 0.0)));
+            coarse_to_fine(
+                &spectra,
+                &self.edge.geometry(),
+                &flat,
+                bins,
+                &[],
+                &mut profiles,
+                &mut scores,
+            )
+            .ok()?;
+            leading_edge(&scores, &search, bin_m, extent_m).filter(|l| !elsewhere(l.depth_m as f32))
+        });
         if search.peak > 0.0 && elsewhere(search.depth_m) {
             search.peak = 0.0;
         }
@@ -455,7 +480,7 @@ impl MovingScene {
         if !found {
             result.depth_mm = 0;
         }
-        Some(result)
+        Some((result, lead.filter(|_| search.peak > 0.0)))
     }
 
     /// Whether the energy of Doppler bin `q` at range bin `bin` comes from outside the
@@ -706,7 +731,9 @@ pub fn merge(
     moving: Option<&MovingScene>,
     beamwidth_deg: f64,
 ) -> ObjectEstimate {
-    let found = moving.map_or_else(Vec::new, |mv| mv.search(hint));
+    let lead_within_m =
+        crate::lead::moves(&obj.class).then(|| crate::camera_points::depth_extent(&obj.class));
+    let found = moving.map_or_else(Vec::new, |mv| mv.search(hint, lead_within_m));
     let evidence = evidence(obj, on_module.as_ref(), &found, beamwidth_deg);
     let verdict = evidence.judge();
     let mut estimate = match verdict {
@@ -726,18 +753,19 @@ pub fn merge(
 }
 
 /// What the trust test weighs for `obj`: the candidates of the module's answer and of the
-/// Doppler path's answers (each with its velocity, m/s), and the camera's three cues.
+/// Doppler path's answers (each with its velocity, m/s, and its leading edge), and the camera's
+/// three cues.
 pub fn evidence(
     obj: &CameraObject,
     on_module: Option<&WireResult>,
-    doppler: &[(WireResult, f64)],
+    doppler: &[DopplerAnswer],
     beamwidth_deg: f64,
 ) -> Evidence {
     Evidence {
         candidates: on_module
             .into_iter()
             .flat_map(|r| candidates(r, None))
-            .chain(doppler.iter().flat_map(|(r, v)| candidates(r, Some(*v))))
+            .chain(doppler.iter().flat_map(DopplerAnswer::candidates))
             .collect(),
         monocular_m: obj.closest_range(),
         height: obj
@@ -746,6 +774,30 @@ pub fn evidence(
         ground: obj.contact,
         beamwidth_deg,
         extent_m: crate::camera_points::depth_extent(&obj.class),
+    }
+}
+
+/// The Doppler path's answer on one focused Doppler bin.
+pub struct DopplerAnswer {
+    /// The search's result, in the module's form.
+    pub result: WireResult,
+    /// Radial velocity of the bin (with its alias), m/s.
+    pub velocity_mps: f64,
+    /// The mover's leading edge in front of the strongest candidate, if its profile shows one.
+    pub lead: Option<Lead>,
+}
+
+impl DopplerAnswer {
+    /// The trust test's candidates: the result's depth and alternatives, then the leading
+    /// edge, each at the bin's velocity.
+    fn candidates(&self) -> impl Iterator<Item = Candidate> + '_ {
+        let v = self.velocity_mps;
+        candidates(&self.result, Some(v)).chain(self.lead.map(|l| Candidate {
+            depth_m: l.depth_m,
+            over_floor_db: l.over_floor_db,
+            survives: true,
+            velocity_mps: Some(v),
+        }))
     }
 }
 

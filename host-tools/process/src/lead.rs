@@ -1,0 +1,202 @@
+//! A mover's leading edge: on the Doppler path (after the search on a focused Doppler bin, before
+//! the trust test), where the mover's range profile first rises in front of its strongest
+//! return.
+//!
+//! ```text
+//! Doppler bin ─▶ template search ─▶ strongest return d*
+//!             └▶ range profile over the span ─▶ nearest peak within LEAD_DB, ≤ extent in front ─▶ lead
+//! ```
+//!
+//! The depth is about the object's closest point. A far car's mask is a few pixels, so its
+//! contour says little, and the strongest return in its Doppler bin is often its body, 1–5 m
+//! behind; the search keeps its candidates farther apart than that, so the trust test could not
+//! see the closest return ([`crate::trust::Evidence::judge`] takes the lead when the mover's
+//! bin offers one). The profile is the contour's directions without their relative ranges: with
+//! them, the template moved forward by its own depth extent lines its far points up with the
+//! closest return, a ghost in front.
+
+use metamoran_dsp::search::depth::SearchResult;
+use metamoran_dsp::wire::Score;
+
+/// A mover's closest return: where its Doppler bin's range profile first rises within
+/// [`crate::trust::LEAD_DB`] of its strongest return ([`leading_edge`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lead {
+    /// Depth, m.
+    pub depth_m: f64,
+    /// Its score over the search floor, dB: the strongest return's less what the profile drops
+    /// by (half-dB steps, as the wire's).
+    pub over_floor_db: f64,
+}
+
+/// Whether an object of `class` can move, so that its Doppler bin's leading edge can be its
+/// own: not a sign (a sign's span holds other movers only). Classes the camera carries through
+/// unknown may.
+pub fn moves(class: &str) -> bool {
+    class != "sign"
+}
+
+/// Range bins in front of the strongest return a leading edge must be at least: the range
+/// window's main lobe (Hann: ±2 bins) is the strongest return's own.
+pub const LEAD_MIN_BINS: usize = 3;
+
+/// The mover's leading edge in front of the search's choice: the nearest local maximum of its
+/// range profile `profile` (one value per range bin of `bin_m` m) at least [`LEAD_MIN_BINS`]
+/// in front of the choice, at most `extent_m` in front of the mover's strongest return (the
+/// profile's largest value from the choice to `extent_m` behind it: the choice is the closest
+/// point's estimate, the body lies behind) and within [`crate::trust::LEAD_DB`] of it,
+/// refined by a parabola through its neighbours. A far car's strongest return is often its
+/// body, metres behind the closest point the depth is about, and the search's candidates are
+/// kept farther apart than that. `None` where the profile rises nowhere in front.
+/// O(extent in bins).
+pub fn leading_edge(
+    profile: &[f32],
+    search: &SearchResult,
+    bin_m: f32,
+    extent_m: f64,
+) -> Option<Lead> {
+    if !(search.peak > 0.0 && search.floor > 0.0 && bin_m > 0.0 && search.depth_bins >= 0.0) {
+        return None;
+    }
+    let d = search.depth_bins.round() as usize;
+    if d >= profile.len() {
+        return None;
+    }
+    // (A reach past the profile reads zeros; NaN casts to 0: no overflow below.)
+    let reach = ((extent_m / f64::from(bin_m)).ceil() as usize).min(profile.len());
+    let at = |b: usize| profile.get(b).copied().unwrap_or(0.0);
+    let strongest = (d..=d + reach).max_by(|&a, &b| at(a).total_cmp(&at(b)))?;
+    let peak = Some(at(strongest)).filter(|&p| p > 0.0)?;
+    let least = peak * 10f32.powf(-(crate::trust::LEAD_DB as f32) / 10.0);
+    let first = strongest.saturating_sub(reach).max(1);
+    let b = (first..d.saturating_sub(LEAD_MIN_BINS - 1)).find(|&b| {
+        let v = at(b);
+        v >= least && v >= at(b - 1) && v >= at(b + 1)
+    })?;
+    let (l, v, r) = (at(b - 1), at(b), at(b + 1));
+    let curve = l - 2.0 * v + r;
+    let offset = if curve < 0.0 {
+        (0.5 * (l - r) / curve).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    // As far over the floor as the choice, less what the profile drops by from its peak.
+    let db = 10.0 * (search.peak / search.floor).log10() - 10.0 * (peak / v).log10();
+    Some(Lead {
+        depth_m: f64::from((b as f32 + offset) * bin_m),
+        over_floor_db: Score::new(db, true).over_floor_db(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use metamoran_dsp::search::depth::Candidate;
+
+    const BIN_M: f32 = 0.5;
+
+    /// The search's choice at `bin`, 30 dB over its floor.
+    fn choice(bin: f32) -> SearchResult {
+        SearchResult {
+            depth_bins: bin,
+            depth_m: bin * BIN_M,
+            peak: 1000.0,
+            floor: 1.0,
+            runner_up: 0.0,
+            others: [Candidate::default(); 2],
+            macs: 0,
+        }
+    }
+
+    /// A profile of 200 bins: a noise floor of 1, and a parabolic peak of `height` at each of
+    /// `peaks` (bin, height), one bin wide on each side.
+    fn profile(peaks: &[(usize, f32)]) -> Vec<f32> {
+        let mut p = vec![1.0; 200];
+        for &(b, h) in peaks {
+            p[b] = h;
+            p[b - 1] = p[b - 1].max(0.75 * h);
+            p[b + 1] = p[b + 1].max(0.75 * h);
+        }
+        p
+    }
+
+    #[test]
+    fn the_nearest_return_within_lead_db_in_front_is_the_lead() {
+        // The body at bin 100, two returns in front: 5 dB down at bin 92 (4 m), 3 dB down at 96.
+        let p = profile(&[(100, 1000.0), (92, 316.0), (96, 500.0)]);
+        let lead = leading_edge(&p, &choice(100.0), BIN_M, 6.0).unwrap();
+        // The nearest, not the strongest; symmetric neighbours: no offset.
+        assert!((lead.depth_m - 92.0 * 0.5).abs() < 1e-6, "{lead:?}");
+        // 30 dB less 5 dB, in half-dB steps.
+        assert!((lead.over_floor_db - 25.0).abs() <= 0.25, "{lead:?}");
+    }
+
+    #[test]
+    fn the_profile_is_measured_against_the_movers_strongest_return_behind_the_choice() {
+        // The template put the closest point at bin 94, in front of the strongest return at
+        // 100 (its contour reaches 3 m behind): the noise in front is 30 dB under that return,
+        // no lead, however it compares with the profile at the choice.
+        let noisy = profile(&[(100, 1000.0), (60, 2.0), (70, 3.0), (80, 2.0)]);
+        assert_eq!(leading_edge(&noisy, &choice(94.0), BIN_M, 6.0), None);
+        // A return 3 dB under it, 5 m in front of it (2 m in front of the choice): the lead.
+        let lead = profile(&[(100, 1000.0), (90, 500.0)]);
+        let got = leading_edge(&lead, &choice(94.0), BIN_M, 6.0).unwrap();
+        assert!((got.depth_m - 45.0).abs() < 1e-6, "{got:?}");
+        // Within the choice's own main lobe: the choice already is the closest return.
+        assert_eq!(leading_edge(&lead, &choice(92.0), BIN_M, 6.0), None);
+    }
+
+    #[test]
+    fn a_lead_is_refined_between_bins() {
+        // Neighbours 0.9 and 0.5 of the peak: the parabola's vertex 0.5·(0.9 − 0.5)/(2 − 1.4)
+        // = 1/3 bin toward the stronger one.
+        let mut p = profile(&[(100, 1000.0)]);
+        p[89] = 450.0;
+        p[90] = 900.0;
+        p[91] = 810.0;
+        let lead = leading_edge(&p, &choice(100.0), BIN_M, 6.0).unwrap();
+        let vertex = 90.0 + 0.5 * (450.0 - 810.0) / (450.0 - 1800.0 + 810.0);
+        assert!(
+            (lead.depth_m - vertex * 0.5).abs() < 1e-4,
+            "{lead:?} vs {vertex}"
+        );
+        assert!(vertex > 90.0 && vertex < 90.5);
+    }
+
+    #[test]
+    fn no_lead_beyond_the_extent_or_lead_db_or_inside_the_main_lobe() {
+        // 11 dB down: not the same mover's.
+        let weak = profile(&[(100, 1000.0), (94, 79.0)]);
+        assert_eq!(leading_edge(&weak, &choice(100.0), BIN_M, 6.0), None);
+        // 7 m in front of a car 6 m long.
+        let far = profile(&[(100, 1000.0), (86, 500.0)]);
+        assert_eq!(leading_edge(&far, &choice(100.0), BIN_M, 6.0), None);
+        // Two bins in front: the strongest return's own main lobe.
+        let lobe = profile(&[(100, 1000.0), (98, 900.0)]);
+        assert_eq!(leading_edge(&lobe, &choice(100.0), BIN_M, 6.0), None);
+        // A profile that only falls toward the radar.
+        let clean = profile(&[(100, 1000.0)]);
+        assert_eq!(leading_edge(&clean, &choice(100.0), BIN_M, 6.0), None);
+    }
+
+    #[test]
+    fn no_lead_without_a_choice_or_a_profile() {
+        let p = profile(&[(100, 1000.0), (92, 500.0)]);
+        let none = SearchResult {
+            peak: 0.0,
+            ..choice(100.0)
+        };
+        assert_eq!(leading_edge(&p, &none, BIN_M, 6.0), None);
+        // The choice at the profile's first bins or past its end: nothing to read, no panic.
+        assert_eq!(leading_edge(&p, &choice(1.0), BIN_M, 6.0), None);
+        assert_eq!(leading_edge(&p, &choice(500.0), BIN_M, 6.0), None);
+        assert_eq!(leading_edge(&[], &choice(100.0), BIN_M, 6.0), None);
+        assert_eq!(leading_edge(&p, &choice(f32::NAN), BIN_M, 6.0), None);
+        assert_eq!(leading_edge(&p, &choice(100.0), 0.0, 6.0), None);
+        assert_eq!(leading_edge(&p, &choice(f32::MAX), BIN_M, 6.0), None);
+        // An extent without bound reads the whole profile in front: the nearest rise.
+        let got = leading_edge(&p, &choice(100.0), BIN_M, f64::INFINITY).unwrap();
+        assert!((got.depth_m - 46.0).abs() < 1e-6, "{got:?}");
+        assert_eq!(leading_edge(&p, &choice(100.0), BIN_M, f64::NAN), None);
+    }
+}
