@@ -99,6 +99,24 @@ fn neighbour(i: usize, offset: isize, len: usize, boundary: Boundary) -> Option<
     }
 }
 
+/// [`neighbour`] without a division where `i + offset` lies within one period of the axis
+/// (every window no wider than the axis): the same index, for the 2D detector's inner loop.
+#[inline(always)]
+fn neighbour_fast(i: usize, offset: isize, len: usize, boundary: Boundary) -> Option<usize> {
+    let (j, n) = (i as isize + offset, len as isize);
+    if (0..n).contains(&j) {
+        Some(j as usize)
+    } else if boundary == Boundary::Truncate {
+        None
+    } else if (-n..0).contains(&j) {
+        Some((j + n) as usize)
+    } else if (n..2 * n).contains(&j) {
+        Some((j - n) as usize)
+    } else {
+        neighbour(i, offset, len, boundary)
+    }
+}
+
 /// The noise estimate of a set of training cells (NaN cells are ignored).
 struct Estimator {
     kind: CfarKind,
@@ -209,6 +227,23 @@ impl Cfar2d {
         map: &[f32],
         rows: usize,
         cols: usize,
+        emit: impl FnMut(Detection),
+    ) -> Result<usize, CfarError> {
+        self.detect_rows(map, rows, cols, 0..rows, emit)
+    }
+
+    /// [`Self::detect`] for the cells under test in rows `under_test` only (their training
+    /// windows still reach the rows around them): the same detections of those rows, so parts
+    /// of a map can be tested apart (on the host, one per thread). O(cells tested · window).
+    ///
+    /// # Errors
+    /// [`CfarError`] if the shape is wrong or the OS window is too large.
+    pub fn detect_rows(
+        &self,
+        map: &[f32],
+        rows: usize,
+        cols: usize,
+        under_test: core::ops::Range<usize>,
         mut emit: impl FnMut(Detection),
     ) -> Result<usize, CfarError> {
         if map.len() != rows * cols {
@@ -227,18 +262,18 @@ impl Cfar2d {
         );
         let mut est = Estimator::new(self.rows.kind);
         let mut found = 0;
-        for r in 0..rows {
+        for r in under_test.start.min(rows)..under_test.end.min(rows) {
             for c in 0..cols {
                 est.reset();
                 for dr in -rt..=rt {
-                    let Some(rr) = neighbour(r, dr, rows, self.rows.boundary) else {
+                    let Some(rr) = neighbour_fast(r, dr, rows, self.rows.boundary) else {
                         continue;
                     };
                     for dc in -ct..=ct {
                         if dr.abs() <= rg && dc.abs() <= cg {
                             continue;
                         }
-                        if let Some(cc) = neighbour(c, dc, cols, self.cols.boundary) {
+                        if let Some(cc) = neighbour_fast(c, dc, cols, self.cols.boundary) {
                             est.push(map[rr * cols + cc])?;
                         }
                     }
@@ -319,6 +354,63 @@ mod tests {
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].index, 3);
         assert!((d[0].threshold - 2.0 * 24.0 / 6.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_fast_neighbour_is_the_neighbour() {
+        for len in [1usize, 2, 5, 16] {
+            for boundary in [Boundary::Truncate, Boundary::Wrap] {
+                for i in 0..len {
+                    for offset in -40isize..=40 {
+                        assert_eq!(
+                            neighbour_fast(i, offset, len, boundary),
+                            neighbour(i, offset, len, boundary),
+                            "{len} {boundary:?} {i} {offset}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn two_d_in_parts_is_the_whole() {
+        // A map with structure in both axes and targets near the edges, so windows wrap and
+        // truncate; CA and OS, the parts split at every row.
+        let (rows, cols) = (24, 16);
+        let m: Vec<f32> = (0..rows * cols)
+            .map(|i| match i {
+                5 | 100 | 377 => 40.0,
+                _ => 1.0 + ((i * 7919) % 13) as f32 / 5.0,
+            })
+            .collect();
+        for kind in [
+            CfarKind::CellAveraging,
+            CfarKind::OrderedStatistic { rank: 0.75 },
+        ] {
+            let axis = |boundary| Cfar {
+                guard: 1,
+                train: 4,
+                scale: 3.0,
+                kind,
+                boundary,
+            };
+            let cfar = Cfar2d {
+                rows: axis(Boundary::Truncate),
+                cols: axis(Boundary::Wrap),
+            };
+            let mut whole = Vec::new();
+            cfar.detect(&m, rows, cols, |d| whole.push(d)).unwrap();
+            assert!(whole.iter().any(|d| d.index == 5) && whole.iter().any(|d| d.index == 377));
+            for split in 0..=rows {
+                let mut parts = Vec::new();
+                cfar.detect_rows(&m, rows, cols, 0..split, |d| parts.push(d))
+                    .unwrap();
+                cfar.detect_rows(&m, rows, cols, split..usize::MAX, |d| parts.push(d))
+                    .unwrap();
+                assert_eq!(parts, whole, "{kind:?} split at {split}");
+            }
+        }
     }
 
     #[test]

@@ -45,6 +45,23 @@ pub fn range_doppler_rows(
     first: usize,
     out: &mut [f32],
 ) -> Result<(), DopplerError> {
+    range_doppler_rows_keeping(cube, options, scratch, first, out, |_, _, _, _| {})
+}
+
+/// [`range_doppler_rows`] that also hands each spectrum it forms to `keep` (range bin, channel,
+/// block exponent, spectrum in natural FFT order), for a host that reads them again (the point
+/// cloud) rather than transform them twice. The map's values are the same.
+///
+/// # Errors
+/// [`DopplerError`] on size mismatches (rows beyond the cube, or a part row).
+pub fn range_doppler_rows_keeping(
+    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[Exponent]>>,
+    options: &DopplerOptions<'_>,
+    scratch: &mut [CQ15],
+    first: usize,
+    out: &mut [f32],
+    mut keep: impl FnMut(usize, usize, Exponent, &[CQ15]),
+) -> Result<(), DopplerError> {
     let nd = scratch.len();
     if out.is_empty() {
         return Ok(());
@@ -64,6 +81,7 @@ pub fn range_doppler_rows(
             for (o, &z) in row.iter_mut().zip(scratch.iter()) {
                 *o += magnitude(z, exp);
             }
+            keep(bin, ch, exp, scratch);
         }
     }
     Ok(())

@@ -5,4 +5,4 @@ mod column;
 mod map;
 
 pub use column::{DopplerError, DopplerOptions, doppler_column};
-pub use map::{magnitude, range_doppler_map, range_doppler_rows};
+pub use map::{magnitude, range_doppler_map, range_doppler_rows, range_doppler_rows_keeping};

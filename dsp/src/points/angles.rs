@@ -56,10 +56,38 @@ fn beam(
     acc
 }
 
-/// Power (dB) of the base row steered to `sin θ = s`: how strong direction θ is in a cell.
-/// O(channels).
-pub fn steered_power_db(values: &[Complex32], geom: &ArrayGeometry, s: f32) -> f32 {
-    db(beam(values, geom, s, |c| geom.elevation(c) == 0))
+/// The base row's steering toward one azimuth, `exp(−jπ·p_ch·sin θ)` per base channel, for a
+/// direction whose power is taken in several cells (its Doppler peak is climbed bin by bin):
+/// each phasor is computed once, as [`beam`] computes it.
+pub(crate) struct BaseSteering {
+    phasors: heapless::Vec<(u16, Complex32), { crate::array::MAX_CHANNELS }>,
+}
+
+impl BaseSteering {
+    /// The base row of `geom` steered to `sin θ = s`. O(channels).
+    pub(crate) fn new(geom: &ArrayGeometry, s: f32) -> Self {
+        let phasors = (0..geom.channels())
+            .filter(|&ch| geom.elevation(ch) == 0)
+            .map(|ch| {
+                let (si, co) = sincosf(-core::f32::consts::PI * geom.azimuth(ch) as f32 * s);
+                (ch as u16, Complex32::new(co, si))
+            })
+            .collect();
+        Self { phasors }
+    }
+
+    /// Power (dB) of the steered sum `Σ value(ch) · exp(−jπ·p_ch·s)` over the base row, channels
+    /// in increasing order: how strong the direction is in the cell whose channel values
+    /// `value` gives. The same bits as [`beam`] over those values. O(base channels).
+    pub(crate) fn power_db(&self, value: impl Fn(usize) -> Complex32) -> f32 {
+        let mut acc = Complex32::new(0.0, 0.0);
+        for &(ch, w) in &self.phasors {
+            let v = value(usize::from(ch));
+            acc.re += v.re * w.re - v.im * w.im;
+            acc.im += v.re * w.im + v.im * w.re;
+        }
+        db(acc)
+    }
 }
 
 /// Each azimuth's share of each elevation row. The rows' channels at the shared columns are
@@ -98,10 +126,16 @@ fn separate(
             }
         }
     }
-    let steer = |c: usize, d: usize| {
-        let (si, co) = sincosf(core::f32::consts::PI * cols[c] as f32 * sines[d]);
-        Complex32::new(co, si)
-    };
+    // The steering vectors, each phasor computed once (the normal equations and the
+    // right-hand sides read them `k + rows` times).
+    let mut steering = [[zero; MAX_DIRECTIONS]; AZIMUTH_FFT];
+    for (c, row) in steering.iter_mut().enumerate().take(cols.len()) {
+        for (w, &s) in row.iter_mut().zip(sines).take(k) {
+            let (si, co) = sincosf(core::f32::consts::PI * cols[c] as f32 * s);
+            *w = Complex32::new(co, si);
+        }
+    }
+    let steer = |c: usize, d: usize| steering[c][d];
     // Normal equations AᴴA x = Aᴴ y, with a small ridge for azimuths closer than the columns
     // resolve; unused directions keep an identity row.
     let mut g = nalgebra::SMatrix::<Complex32, MAX_DIRECTIONS, MAX_DIRECTIONS>::identity();

@@ -10,12 +10,12 @@
 //! proportion to its Doppler. The power is the direction's beam power, and `rcs_db` adds `40·log10(range)` (the radar
 //! equation's spreading loss) for a relative, uncalibrated RCS.
 
-use super::angles::{Direction, cell_directions, steered_power_db};
+use super::angles::{BaseSteering, Direction, cell_directions};
 use super::geometry::ArrayGeometry;
-use crate::config::RadarConfig;
+use crate::config::{MAX_SLOTS, RadarConfig};
 use crate::detect::{Cfar2d, CfarError, quadratic_offset};
 use crate::doppler::{DopplerError, DopplerOptions, doppler_column};
-use crate::fft::Complex32;
+use crate::fft::{Complex32, Exponent};
 use crate::fixed::CQ15;
 use crate::range::RangeCube;
 
@@ -119,37 +119,94 @@ fn db(v: f32) -> f32 {
     20.0 * log10f(v.max(1e-30))
 }
 
-/// Calls `emit` for every point of the frame in `cube`. `map` is its range–Doppler map
-/// (`bins × nd`, from [`crate::doppler::range_doppler_map`] with the same `doppler` options),
-/// `scratch` has the Doppler length `nd`, `spectra` holds `channels × nd` values (the Doppler
-/// spectra of one range bin). Only detections at range bins in `bins_in` become points
-/// (`0..usize::MAX` for all): parts of the bins give the same points in the same order, so the
-/// host can split a frame among threads and concatenate. Returns the number of points.
-/// O(cells · window) for CFAR plus O(channels · nd log nd) per range bin with a detection.
+/// Where [`frame_points`] reads the Doppler spectra of a range bin's channels: formed from the
+/// range cube when asked ([`CubeSpectra`]: one column of scratch, the module's way), or kept
+/// from the pass that formed the range–Doppler map (the host's, which has the memory).
+pub trait DopplerSpectra {
+    /// Channels per range bin.
+    fn channels(&self) -> usize;
+
+    /// The Doppler spectrum of every channel at range bin `bin` into `out` (`channels × nd`,
+    /// natural FFT order, full scale 1: [`spectrum_f32`] of each block-floating-point column).
+    ///
+    /// # Errors
+    /// [`PointsError`] if the bin or `out` does not fit.
+    fn load(&mut self, bin: usize, out: &mut [Complex32]) -> Result<(), PointsError>;
+}
+
+/// A block-floating-point spectrum (`column · 2^exponent`, Q15) as `f32` into `out`, full
+/// scale 1. O(len).
+pub fn spectrum_f32(exponent: Exponent, column: &[CQ15], out: &mut [Complex32]) {
+    let scale = (1.0 / 32768.0) * exponent.scale_f32();
+    for (o, z) in out.iter_mut().zip(column) {
+        *o = Complex32::new(f32::from(z.re.0) * scale, f32::from(z.im.0) * scale);
+    }
+}
+
+/// Doppler spectra formed from a frame's range cube when [`frame_points`] asks for a bin
+/// ([`doppler_column`] per channel, through `scratch`). O(channels · nd log nd) per bin.
+pub struct CubeSpectra<'a, D, E> {
+    /// The frame's range cube.
+    pub cube: &'a RangeCube<D, E>,
+    /// How the range–Doppler map's spectra were formed.
+    pub doppler: DopplerOptions<'a>,
+    /// One column: its length is the Doppler FFT length `nd`.
+    pub scratch: &'a mut [CQ15],
+}
+
+impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> DopplerSpectra for CubeSpectra<'_, D, E> {
+    fn channels(&self) -> usize {
+        self.cube.channels()
+    }
+
+    fn load(&mut self, bin: usize, out: &mut [Complex32]) -> Result<(), PointsError> {
+        let nd = self.scratch.len();
+        if nd == 0 || out.len() != self.cube.channels() * nd {
+            return Err(PointsError::Buffer("spectra"));
+        }
+        for (ch, o) in out.chunks_exact_mut(nd).enumerate() {
+            let e = doppler_column(self.cube, ch, bin, &self.doppler, self.scratch)
+                .map_err(PointsError::Doppler)?;
+            spectrum_f32(e, self.scratch, o);
+        }
+        Ok(())
+    }
+}
+
+/// Calls `emit` for every point of a frame. `map` is its range–Doppler map (`bins × nd`, from
+/// [`crate::doppler::range_doppler_map`]), `source` gives the Doppler spectra that map was
+/// formed from, one range bin at a time, into `spectra` (`channels × nd` values). Only
+/// detections at range bins in `bins_in` become points (`0..usize::MAX` for all): parts of the
+/// bins give the same points in the same order, so the host can split a frame among threads and
+/// concatenate. Returns the number of points. O(cells · window) for CFAR plus a
+/// [`DopplerSpectra::load`] per range bin with a detection and O(channels) per direction.
 ///
 /// # Errors
 /// [`PointsError`] on size mismatches.
 #[allow(clippy::too_many_arguments)]
 pub fn frame_points(
-    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[crate::fft::Exponent]>>,
+    source: &mut (impl DopplerSpectra + ?Sized),
     config: &RadarConfig,
     geom: &ArrayGeometry,
-    doppler: &DopplerOptions<'_>,
     map: &[f32],
     options: &CloudOptions,
     bins_in: core::ops::Range<usize>,
-    scratch: &mut [CQ15],
     spectra: &mut [Complex32],
     mut emit: impl FnMut(RadarPoint),
 ) -> Result<usize, PointsError> {
-    let (bins, nd, channels) = (cube.bins(), scratch.len(), geom.channels());
-    if map.len() != bins * nd {
-        return Err(PointsError::Buffer("range-Doppler map"));
-    }
-    if spectra.len() != channels * nd || cube.channels() != channels {
+    let (channels, rx) = (geom.channels(), config.rx_count());
+    if channels == 0
+        || spectra.len() % channels != 0
+        || source.channels() != channels
+        || channels != config.slots() * rx
+    {
         return Err(PointsError::Buffer("spectra"));
     }
-    let nr = config.range_fft_len();
+    let (nr, nd) = (config.range_fft_len(), spectra.len() / channels);
+    let bins = nr;
+    if nd == 0 || map.len() != bins * nd {
+        return Err(PointsError::Buffer("range-Doppler map"));
+    }
     let at = |b: usize, d: usize| map[b * nd + d % nd];
     let mut loaded = usize::MAX;
     let mut failed = None;
@@ -159,14 +216,11 @@ pub fn frame_points(
     let floor = peak * libm::powf(10.0, -options.dynamic_range_db / 20.0);
     options
         .cfar
-        .detect(map, bins, nd, |det| {
+        .detect_rows(map, bins, nd, bins_in, |det| {
             if failed.is_some() {
                 return;
             }
             let (b, d) = (det.index / nd, det.index % nd);
-            if !bins_in.contains(&b) {
-                return;
-            }
             // Local maxima of the map only (Doppler wraps, range truncates).
             let v = det.value;
             if v < floor {
@@ -185,32 +239,36 @@ pub fn frame_points(
                 return;
             }
             if loaded != b {
-                if let Err(e) = doppler_spectra(cube, b, doppler, scratch, spectra) {
+                if let Err(e) = source.load(b, spectra) {
                     failed = Some(e);
                     return;
                 }
                 loaded = b;
             }
             let spectra: &[Complex32] = spectra;
-            let slots = config.slots() as f32;
-            let rx = config.rx_count();
+            let slots = config.slots();
             // Channel values of Doppler bin `k` unfolded by `alias` periods, TDM-MIMO Doppler
             // phase removed.
             let cell_at = |k: usize, alias: i32, out: &mut [Complex32]| {
-                compensated_cell(spectra, (nd, rx, slots), (k, alias), out);
+                let turns = slot_phasors((nd, slots), (k, alias));
+                let k = k % nd;
+                for (ch, o) in out.iter_mut().enumerate() {
+                    *o = rotate(spectra[ch * nd + k], turns[ch / rx]);
+                }
             };
-            // The direction's power in Doppler bin `k`.
-            let power = |k: usize, alias: i32, s: f32| {
-                let mut cell = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
-                cell_at(k, alias, &mut cell[..channels]);
-                steered_power_db(&cell[..channels], geom, s)
+            // The direction's power in Doppler bin `k`: the base row of that cell, TDM phase
+            // removed, steered to it (only the channels the power reads are compensated).
+            let power = |k: usize, alias: i32, steering: &BaseSteering| {
+                let turns = slot_phasors((nd, slots), (k, alias));
+                let k = k % nd;
+                steering.power_db(|ch| rotate(spectra[ch * nd + k], turns[ch / rx]))
             };
             // A direction's measured radial velocity (its own Doppler peak near `d`), and the
             // aliases to add to reach the prior's static point in that direction.
             let span = config.doppler_to_velocity(nd as f32, nd);
             let measure = |dir: &Direction, alias: i32| {
-                let s = sinf(dir.azimuth);
-                let (k, off) = doppler_peak(|k| power(k, alias, s), d + nd);
+                let steering = BaseSteering::new(geom, sinf(dir.azimuth));
+                let (k, off) = doppler_peak(|k| power(k, alias, &steering), d + nd);
                 let k = k % nd;
                 let signed = if k >= nd / 2 {
                     k as f32 - nd as f32
@@ -290,67 +348,47 @@ fn is_map_peak(map: &[f32], (bins, nd): (usize, usize), (b, d): (usize, usize)) 
     })
 }
 
-/// The Doppler spectra of range bin `b` of every channel into `spectra` (`channels × nd`,
-/// scaled to full scale 1), through `scratch` (`nd` values).
-fn doppler_spectra(
-    cube: &RangeCube<impl AsRef<[CQ15]>, impl AsRef<[crate::fft::Exponent]>>,
-    b: usize,
-    doppler: &DopplerOptions<'_>,
-    scratch: &mut [CQ15],
-    spectra: &mut [Complex32],
-) -> Result<(), PointsError> {
-    let nd = scratch.len();
-    for ch in 0..cube.channels() {
-        let e = doppler_column(cube, ch, b, doppler, scratch).map_err(PointsError::Doppler)?;
-        let scale = (1.0 / 32768.0) * e.scale_f32();
-        for (o, z) in spectra[ch * nd..(ch + 1) * nd].iter_mut().zip(&*scratch) {
-            *o = Complex32::new(f32::from(z.re.0) * scale, f32::from(z.im.0) * scale);
-        }
-    }
-    Ok(())
-}
-
-/// Channel values of Doppler bin `k` (wrapping) into `out`, with the TDM-MIMO phase of the
-/// Doppler removed: slot `s` transmits `s` chirp periods into the loop, so a target at signed
-/// Doppler bin `b` (the measured bin plus `alias` periods of `nd`) has advanced
-/// `2π·b·s / (nd·slots)` there.
-fn compensated_cell(
-    spectra: &[Complex32],
-    (nd, rx, slots): (usize, usize, f32),
-    (k, alias): (usize, i32),
-    out: &mut [Complex32],
-) {
+/// The phasor `exp(−jφ_s)` that removes the TDM-MIMO phase of the Doppler at bin `k` (wrapping)
+/// of `nd`, unfolded by `alias` periods, from each of the `slots` slots: slot `s` transmits `s`
+/// chirp periods into the loop, so a target at signed Doppler bin `b` (the measured bin plus
+/// `alias` periods of `nd`) has advanced `φ_s = 2π·b·s / (nd·slots)` there. Channel `ch` of
+/// `rx` receivers is in slot `ch / rx`. O(slots).
+fn slot_phasors((nd, slots): (usize, usize), (k, alias): (usize, i32)) -> [Complex32; MAX_SLOTS] {
     let k = k % nd;
     let signed = if k >= nd / 2 {
         k as f32 - nd as f32
     } else {
         k as f32
     } + alias as f32 * nd as f32;
-    for (ch, o) in out.iter_mut().enumerate() {
-        let slot = (ch / rx) as f32;
-        let phi = -core::f32::consts::TAU * signed * slot / (nd as f32 * slots);
-        let (si, co) = (sinf(phi), cosf(phi));
-        let z = spectra[ch * nd + k];
-        *o = Complex32::new(z.re * co - z.im * si, z.re * si + z.im * co);
+    let mut turns = [Complex32::new(1.0, 0.0); MAX_SLOTS];
+    for (slot, t) in turns.iter_mut().enumerate().take(slots) {
+        let phi = -core::f32::consts::TAU * signed * slot as f32 / (nd as f32 * slots as f32);
+        *t = Complex32::new(cosf(phi), sinf(phi));
     }
+    turns
+}
+
+/// `z` rotated by the unit phasor `w` (`z · w`, written out).
+fn rotate(z: Complex32, w: Complex32) -> Complex32 {
+    Complex32::new(z.re * w.re - z.im * w.im, z.re * w.im + z.im * w.re)
 }
 
 /// Climbs from Doppler bin `k` (offset by one period so `k − 1` does not wrap) to the
 /// direction's own peak of `power` (at most two bins); the peak's bin and its parabolic
-/// sub-bin offset.
+/// sub-bin offset. Each bin's power is evaluated once (3 to 5 evaluations).
 fn doppler_peak(power: impl Fn(usize) -> f32, mut k: usize) -> (usize, f32) {
     let mut here = power(k);
+    let (mut l, mut r) = (power(k - 1), power(k + 1));
     for _ in 0..2 {
-        let (l, r) = (power(k - 1), power(k + 1));
         if l > here && l >= r {
             k -= 1;
-            here = l;
+            (r, here, l) = (here, l, power(k - 1));
         } else if r > here {
             k += 1;
-            here = r;
+            (l, here, r) = (here, r, power(k + 1));
         } else {
             break;
         }
     }
-    (k, quadratic_offset(power(k - 1), here, power(k + 1)))
+    (k, quadratic_offset(l, here, r))
 }

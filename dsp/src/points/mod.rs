@@ -12,5 +12,7 @@ pub mod cloud;
 pub mod geometry;
 
 pub use angles::{Direction, cell_directions};
-pub use cloud::{CloudOptions, PointsError, RadarPoint, frame_points};
+pub use cloud::{
+    CloudOptions, CubeSpectra, DopplerSpectra, PointsError, RadarPoint, frame_points, spectrum_f32,
+};
 pub use geometry::{ArrayGeometry, GeometryError};

@@ -69,7 +69,8 @@ impl Clouds {
                 doppler_window: WindowKind::Hann,
                 remove_static: false,
             },
-        )?;
+        )?
+        .keeping_doppler_spectra();
         Ok(Self {
             processor,
             geometry,

@@ -89,7 +89,8 @@ fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance
             remove_static: false,
         },
     )
-    .unwrap();
+    .unwrap()
+    .keeping_doppler_spectra();
     let spectra = proc.process(&samples).unwrap();
     let geometry = ArrayGeometry::new(&config, &tx_elevation, &[]).unwrap();
     let points = proc
@@ -102,8 +103,9 @@ fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance
             },
         )
         .unwrap();
-    // The processor splits the map and the cloud between two threads: both are the one-thread
-    // `dsp` results bit for bit.
+    // The processor splits the map and the cloud between two threads, and the cloud reads the
+    // Doppler spectra the map's pass kept: both are the one-thread `dsp` results, which form
+    // each detected bin's spectra again from the cube, bit for bit.
     let nd = spectra.doppler_len;
     let mut scratch = vec![CQ15::default(); nd];
     let mut map = vec![0f32; spectra.range_bins * nd];
@@ -119,17 +121,19 @@ fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance
     let mut whole = Vec::new();
     let mut values = vec![metamoran_dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
     metamoran_dsp::points::frame_points(
-        proc.cube(),
+        &mut metamoran_dsp::points::CubeSpectra {
+            cube: proc.cube(),
+            doppler,
+            scratch: &mut scratch,
+        },
         &config,
         &geometry,
-        &doppler,
         &map,
         &metamoran_dsp::points::CloudOptions {
             velocity_prior: prior,
             ..metamoran_map::cloud::default_options()
         },
         0..usize::MAX,
-        &mut scratch,
         &mut values,
         |p| whole.push(p),
     )

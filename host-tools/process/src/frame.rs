@@ -6,7 +6,9 @@ use metamoran_dsp::array::VirtualArray;
 use metamoran_dsp::azimuth::azimuth_spectrum;
 use metamoran_dsp::config::{RadarConfig, azimuth_bin_to_angle};
 use metamoran_dsp::detect::quadratic_offset;
-use metamoran_dsp::doppler::{DopplerOptions, doppler_column, magnitude, range_doppler_rows};
+use metamoran_dsp::doppler::{
+    DopplerOptions, doppler_column, magnitude, range_doppler_rows, range_doppler_rows_keeping,
+};
 use metamoran_dsp::fft::{self, Exponent};
 use metamoran_dsp::fixed::{CQ15, Q15};
 use metamoran_dsp::range::{RangeCube, RangeProcessor};
@@ -65,6 +67,73 @@ pub struct FrameProcessor {
     cube: RangeCube<Vec<CQ15>, Vec<Exponent>>,
     array: VirtualArray,
     scratch: Vec<CQ15>,
+    kept: Option<KeptSpectra>,
+}
+
+/// The Doppler spectra of every (range bin, channel) of the last frame, `[bin][channel][nd]`,
+/// each column's block exponent beside it: what the range–Doppler map was formed from, kept for
+/// the point cloud.
+struct KeptSpectra {
+    columns: Vec<CQ15>,
+    exponents: Vec<Exponent>,
+}
+
+/// Where the map's pass over range bins `first..` keeps each spectrum it forms: `columns` and
+/// `exponents` are that part of [`KeptSpectra`] (`channels` columns of `nd` per bin).
+fn keeper<'a>(
+    first: usize,
+    (channels, nd): (usize, usize),
+    columns: &'a mut [CQ15],
+    exponents: &'a mut [Exponent],
+) -> impl FnMut(usize, usize, Exponent, &[CQ15]) + 'a {
+    move |bin, channel, e, column| {
+        let cell = (bin - first) * channels + channel;
+        exponents[cell] = e;
+        columns[cell * nd..(cell + 1) * nd].copy_from_slice(column);
+    }
+}
+
+/// [`KeptSpectra`] as [`frame_points`](metamoran_dsp::points::frame_points) reads them.
+struct KeptSource<'a> {
+    kept: &'a KeptSpectra,
+    channels: usize,
+    nd: usize,
+}
+
+impl metamoran_dsp::points::DopplerSpectra for KeptSource<'_> {
+    fn channels(&self) -> usize {
+        self.channels
+    }
+
+    fn load(
+        &mut self,
+        bin: usize,
+        out: &mut [fft::Complex32],
+    ) -> Result<(), metamoran_dsp::points::PointsError> {
+        let (ch, nd) = (self.channels, self.nd);
+        let missing = metamoran_dsp::points::PointsError::Buffer("kept spectra");
+        let exponents = self
+            .kept
+            .exponents
+            .get(bin * ch..(bin + 1) * ch)
+            .ok_or(missing)?;
+        let columns = self
+            .kept
+            .columns
+            .get(bin * ch * nd..(bin + 1) * ch * nd)
+            .ok_or(missing)?;
+        if nd == 0 || out.len() != ch * nd {
+            return Err(metamoran_dsp::points::PointsError::Buffer("spectra"));
+        }
+        for ((o, column), &e) in out
+            .chunks_exact_mut(nd)
+            .zip(columns.chunks_exact(nd))
+            .zip(exponents)
+        {
+            metamoran_dsp::points::spectrum_f32(e, column, o);
+        }
+        Ok(())
+    }
 }
 
 impl FrameProcessor {
@@ -102,7 +171,23 @@ impl FrameProcessor {
             cube,
             array,
             scratch: vec![CQ15::default(); nd],
+            kept: None,
         })
+    }
+
+    /// Keeps every Doppler spectrum the range–Doppler map is formed from (`range bins ×
+    /// channels × Doppler length` values: 6 MB for a 192-channel imaging frame), so that
+    /// [`Self::points`] reads them instead of forming those of each detected range bin again.
+    /// The same points, bit for bit.
+    #[must_use]
+    pub fn keeping_doppler_spectra(mut self) -> Self {
+        let c = &self.config;
+        let cells = c.range_fft_len() * c.channels();
+        self.kept = Some(KeptSpectra {
+            columns: vec![CQ15::default(); cells * c.doppler_fft_len()],
+            exponents: vec![Exponent::default(); cells],
+        });
+        self
     }
 
     /// The configuration.
@@ -183,14 +268,35 @@ impl FrameProcessor {
         // Range bins are independent too: the upper half on a second thread.
         let mut scratch = std::mem::take(&mut self.scratch);
         let mut upper_scratch = vec![CQ15::default(); nd];
-        let options = self.doppler_options(self.options.remove_static);
+        let options = DopplerOptions {
+            remove_static: self.options.remove_static,
+            window: Self::window_of(self.options.doppler_window, &self.doppler_window),
+        };
         let half = nr / 2;
         let (lower, upper) = range_doppler.split_at_mut(half * nd);
         let cube = &self.cube;
-        let result = both(
-            || range_doppler_rows(cube, &options, &mut scratch, 0, lower),
-            || range_doppler_rows(cube, &options, &mut upper_scratch, half, upper),
-        );
+        let result = match self.kept.as_mut() {
+            None => both(
+                || range_doppler_rows(cube, &options, &mut scratch, 0, lower),
+                || range_doppler_rows(cube, &options, &mut upper_scratch, half, upper),
+            ),
+            Some(kept) => {
+                let ch = self.array.channels();
+                let (lower_columns, upper_columns) = kept.columns.split_at_mut(half * ch * nd);
+                let (lower_exps, upper_exps) = kept.exponents.split_at_mut(half * ch);
+                both(
+                    || {
+                        let keep = keeper(0, (ch, nd), lower_columns, lower_exps);
+                        range_doppler_rows_keeping(cube, &options, &mut scratch, 0, lower, keep)
+                    },
+                    || {
+                        let keep = keeper(half, (ch, nd), upper_columns, upper_exps);
+                        let upper_scratch = &mut upper_scratch;
+                        range_doppler_rows_keeping(cube, &options, upper_scratch, half, upper, keep)
+                    },
+                )
+            }
+        };
         self.scratch = scratch;
         result?;
         Ok(FrameSpectra {
@@ -258,9 +364,10 @@ impl FrameProcessor {
     }
 
     /// The point cloud of the last processed frame (`spectra` is what [`Self::process`]
-    /// returned for it): [`metamoran_dsp::points::frame_points`] over this processor's range
-    /// cube, the farther half of the range bins on a second thread (the same points in the same
-    /// order).
+    /// returned for it): [`metamoran_dsp::points::frame_points`] over the Doppler spectra the
+    /// map's pass kept ([`Self::keeping_doppler_spectra`]) or else formed again from this
+    /// processor's range cube, the farther half of the range bins on a second thread (the same
+    /// points in the same order, either way).
     ///
     /// # Errors
     /// [`ProcessError`] if the buffers do not fit the configuration.
@@ -272,19 +379,33 @@ impl FrameProcessor {
     ) -> Result<Vec<metamoran_dsp::points::RadarPoint>, ProcessError> {
         let nd = spectra.doppler_len;
         let doppler = self.doppler_options(self.options.remove_static);
-        let (cube, config) = (&self.cube, &self.config);
+        let (cube, config, kept) = (&self.cube, &self.config, self.kept.as_ref());
         let part = |bins: std::ops::Range<usize>, out: &mut Vec<_>| {
-            let mut scratch = vec![CQ15::default(); nd];
             let mut values = vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
+            let mut scratch = vec![CQ15::default(); nd];
+            let (mut from_kept, mut from_cube);
+            let source: &mut dyn metamoran_dsp::points::DopplerSpectra = match kept {
+                Some(kept) => {
+                    let channels = cube.channels();
+                    from_kept = KeptSource { kept, channels, nd };
+                    &mut from_kept
+                }
+                None => {
+                    from_cube = metamoran_dsp::points::CubeSpectra {
+                        cube,
+                        doppler,
+                        scratch: &mut scratch,
+                    };
+                    &mut from_cube
+                }
+            };
             metamoran_dsp::points::frame_points(
-                cube,
+                source,
                 config,
                 geometry,
-                &doppler,
                 &spectra.range_doppler,
                 options,
                 bins,
-                &mut scratch,
                 &mut values,
                 |p| out.push(p),
             )
