@@ -21,7 +21,7 @@ fn input(n: usize) -> Vec<CQ15> {
 
 fn ffts(c: &mut Criterion) {
     let mut g = c.benchmark_group("cfft");
-    for n in [256usize, 1024] {
+    for n in [32usize, 256, 1024] {
         let x = input(n);
         let x31: Vec<CQ31> = x
             .iter()

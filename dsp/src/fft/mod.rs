@@ -9,6 +9,8 @@ mod q15;
 mod q31;
 mod reorder;
 pub(crate) mod simd;
+#[cfg(target_arch = "x86_64")]
+mod sse2;
 pub use simd::complex_mac;
 
 /// Short name of the f32 complex type used for f32 spectra.
