@@ -203,7 +203,7 @@ impl RadarConfig {
             }
         }
         let n = self.adc_samples;
-        if n == 0 || n % 2 != 0 || n as usize > crate::fft::MAX_LEN {
+        if n == 0 || !n.is_multiple_of(2) || n as usize > crate::fft::MAX_LEN {
             return Err(ConfigError::AdcSamples(n));
         }
         if self.chirps_per_tx == 0 || self.chirps_per_tx as usize > crate::fft::MAX_LEN {

@@ -62,7 +62,7 @@ pub fn deinterleave_bytes(
     order: IqOrder,
     out: &mut [CQ15],
 ) -> Result<(), CaptureError> {
-    if out.len() % 2 != 0 {
+    if !out.len().is_multiple_of(2) {
         return Err(CaptureError::OddSampleCount(out.len()));
     }
     if bytes.len() != out.len() * 4 {

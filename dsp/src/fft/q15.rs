@@ -136,7 +136,11 @@ fn radix4_pass<
     let stride = TABLE_LEN / span;
     #[cfg(target_arch = "x86_64")]
     if VECTOR && span == 8 {
-        let twiddles = (table_word(2 * stride), table_word(stride), table_word(3 * stride));
+        let twiddles = (
+            table_word(2 * stride),
+            table_word(stride),
+            table_word(3 * stride),
+        );
         // SAFETY: as below.
         return unsafe { super::sse2::radix4_pass_8::<PRE, T, Y, TRACK>(words, twiddles) };
     }

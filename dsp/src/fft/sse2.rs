@@ -23,8 +23,9 @@
 use core::arch::x86_64::{
     __m128i, _mm_add_epi16, _mm_add_epi32, _mm_and_si128, _mm_andnot_si128, _mm_cvtsi128_si32,
     _mm_loadu_si128, _mm_madd_epi16, _mm_or_si128, _mm_set_epi32, _mm_set1_epi16, _mm_set1_epi32,
-    _mm_setzero_si128, _mm_shuffle_epi32, _mm_shufflehi_epi16, _mm_shufflelo_epi16, _mm_slli_epi32, _mm_srai_epi16,
-    _mm_srai_epi32, _mm_srli_si128, _mm_storeu_si128, _mm_sub_epi16, _mm_sub_epi32, _mm_xor_si128,
+    _mm_setzero_si128, _mm_shuffle_epi32, _mm_shufflehi_epi16, _mm_shufflelo_epi16, _mm_slli_epi32,
+    _mm_srai_epi16, _mm_srai_epi32, _mm_srli_si128, _mm_storeu_si128, _mm_sub_epi16, _mm_sub_epi32,
+    _mm_xor_si128,
 };
 
 /// The low (real) lane of every word set.
@@ -316,6 +317,10 @@ pub fn radix2_pass<const HALVE: bool>(words: &mut [u32]) {
         let v = load(words, g);
         // b0 a0 b1 a1
         let s = _mm_shuffle_epi32::<0xB1>(v);
-        store(words, g, select(even, add::<HALVE>(v, s), sub::<HALVE>(s, v)));
+        store(
+            words,
+            g,
+            select(even, add::<HALVE>(v, s), sub::<HALVE>(s, v)),
+        );
     }
 }

@@ -196,7 +196,7 @@ pub fn frame_points(
 ) -> Result<usize, PointsError> {
     let (channels, rx) = (geom.channels(), config.rx_count());
     if channels == 0
-        || spectra.len() % channels != 0
+        || !spectra.len().is_multiple_of(channels)
         || source.channels() != channels
         || channels != config.slots() * rx
     {

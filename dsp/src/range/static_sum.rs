@@ -19,7 +19,7 @@ impl<'a> StaticSum<'a> {
     /// # Errors
     /// [`RangeError::Buffer`] if `samples` is not a whole number of `n`-sample rows.
     pub fn new(samples: &'a mut [C32], n: usize) -> Result<Self, RangeError> {
-        if n == 0 || samples.len() % n != 0 {
+        if n == 0 || !samples.len().is_multiple_of(n) {
             return Err(RangeError::Buffer {
                 what: "static samples",
                 expected: n,

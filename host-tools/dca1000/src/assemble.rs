@@ -225,7 +225,7 @@ impl Assembler {
                 .remove(&self.next)
                 .unwrap_or_else(|| Pending::new(fb as usize));
             // A stream that ends mid-frame: that frame is as long as what was sent of it.
-            let len = if ending && self.next + 1 == newest && self.end % fb != 0 {
+            let len = if ending && self.next + 1 == newest && !self.end.is_multiple_of(fb) {
                 (self.end % fb) as usize
             } else {
                 fb as usize

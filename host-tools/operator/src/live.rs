@@ -311,7 +311,7 @@ mod tests {
 
     fn alert(i: u32) -> Alert {
         Alert {
-            kind: if i % 2 == 0 {
+            kind: if i.is_multiple_of(2) {
                 AlertKind::Enter
             } else {
                 AlertKind::Exit

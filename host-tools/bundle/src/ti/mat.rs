@@ -135,7 +135,7 @@ fn numbers(ty: u32, data: &[u8]) -> Result<Vec<f64>, Malformed> {
         MI_DOUBLE | MI_INT64 | MI_UINT64 => 8,
         _ => return bad(format!("numeric data of element type {ty}")),
     };
-    if data.len() % width != 0 {
+    if !data.len().is_multiple_of(width) {
         return bad(format!("{} bytes of {width}-byte numbers", data.len()));
     }
     Ok(data

@@ -96,7 +96,7 @@ fn capture_config(
     if antennas.rx.is_empty() || antennas.order.is_empty() {
         return Err(err("channels", "no receiver or no chirp is enabled".into()));
     }
-    if timing.samples % 2 != 0 || timing.samples < 2 || timing.samples > 2048 {
+    if !timing.samples.is_multiple_of(2) || timing.samples < 2 || timing.samples > 2048 {
         return Err(err(
             "numAdcSamples",
             format!(
