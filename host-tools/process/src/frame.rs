@@ -7,7 +7,7 @@ use metamoran_dsp::azimuth::azimuth_spectrum;
 use metamoran_dsp::config::{RadarConfig, azimuth_bin_to_angle};
 use metamoran_dsp::detect::quadratic_offset;
 use metamoran_dsp::doppler::{
-    DopplerOptions, doppler_column, magnitude, range_doppler_rows, range_doppler_rows_keeping,
+    DopplerOptions, doppler_column, magnitude, range_doppler_rows_keeping,
 };
 use metamoran_dsp::fft::{self, Exponent};
 use metamoran_dsp::fixed::{CQ15, Q15};
@@ -275,28 +275,31 @@ impl FrameProcessor {
         let half = nr / 2;
         let (lower, upper) = range_doppler.split_at_mut(half * nd);
         let cube = &self.cube;
-        let result = match self.kept.as_mut() {
-            None => both(
-                || range_doppler_rows(cube, &options, &mut scratch, 0, lower),
-                || range_doppler_rows(cube, &options, &mut upper_scratch, half, upper),
-            ),
+        // With kept spectra, each half keeps its own rows' (disjoint parts of the store).
+        let ch = self.array.channels();
+        let (mut lower_keep, mut upper_keep) = match self.kept.as_mut() {
+            None => (None, None),
             Some(kept) => {
-                let ch = self.array.channels();
                 let (lower_columns, upper_columns) = kept.columns.split_at_mut(half * ch * nd);
                 let (lower_exps, upper_exps) = kept.exponents.split_at_mut(half * ch);
-                both(
-                    || {
-                        let keep = keeper(0, (ch, nd), lower_columns, lower_exps);
-                        range_doppler_rows_keeping(cube, &options, &mut scratch, 0, lower, keep)
-                    },
-                    || {
-                        let keep = keeper(half, (ch, nd), upper_columns, upper_exps);
-                        let upper_scratch = &mut upper_scratch;
-                        range_doppler_rows_keeping(cube, &options, upper_scratch, half, upper, keep)
-                    },
+                (
+                    Some(keeper(0, (ch, nd), lower_columns, lower_exps)),
+                    Some(keeper(half, (ch, nd), upper_columns, upper_exps)),
                 )
             }
         };
+        let result = both(
+            || {
+                let keep =
+                    |bin, c, e, z: &[CQ15]| lower_keep.as_mut().map_or((), |k| k(bin, c, e, z));
+                range_doppler_rows_keeping(cube, &options, &mut scratch, 0, lower, keep)
+            },
+            || {
+                let keep =
+                    |bin, c, e, z: &[CQ15]| upper_keep.as_mut().map_or((), |k| k(bin, c, e, z));
+                range_doppler_rows_keeping(cube, &options, &mut upper_scratch, half, upper, keep)
+            },
+        );
         self.scratch = scratch;
         result?;
         Ok(FrameSpectra {
