@@ -211,10 +211,9 @@ fn rows_and_map_filled_in_parts_are_the_same_bits() {
     assert!(range_doppler_rows(&whole, &options, &mut scratch, 0, &mut ragged).is_err());
 }
 
-/// The map's rows (formed in blocks of range bins, channel by channel) are each bin's
-/// channels summed in channel order, bit for bit, and `keep` sees every (bin, channel)'s
-/// spectrum once: checked from `doppler_column` bin by bin, over a part that starts and ends
-/// inside a block.
+/// The map's rows are each bin's channels summed in channel order, bit for bit, and `keep`
+/// sees every (bin, channel)'s spectrum once: checked from `doppler_column` bin by bin, over a
+/// part of the map that starts and ends at odd bins.
 #[test]
 fn map_rows_are_each_bins_channels_summed_in_order() {
     let c = config();

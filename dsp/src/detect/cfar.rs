@@ -257,20 +257,25 @@ impl Cfar2d {
         for r in under_test.start.min(rows)..under_test.end.min(rows) {
             for c in 0..cols {
                 let level = if self.rows.kind == CfarKind::CellAveraging {
-                    // The estimator's sum in locals (a register, not the estimator's memory):
+                    // The estimator's sum by value (a register, not the estimator's memory):
                     // the same additions in the same order.
-                    let (mut sum, mut count) = (0.0f64, 0usize);
-                    self.training_cells(map, (rows, cols), (r, c), &mut |v: f32| {
-                        if !v.is_nan() {
-                            sum += f64::from(v);
-                            count += 1;
-                        }
-                        Ok(())
-                    })?;
+                    let (sum, count) = self.fold_training(
+                        map,
+                        (rows, cols),
+                        (r, c),
+                        (0.0f64, 0usize),
+                        |(sum, count), v| {
+                            Ok(if v.is_nan() {
+                                (sum, count)
+                            } else {
+                                (sum + f64::from(v), count + 1)
+                            })
+                        },
+                    )?;
                     (count > 0).then(|| (sum / count as f64) as f32)
                 } else {
                     est.reset();
-                    self.training_cells(map, (rows, cols), (r, c), &mut |v: f32| est.push(v))?;
+                    self.fold_training(map, (rows, cols), (r, c), (), |(), v| est.push(v))?;
                     est.level()
                 };
                 let v = map[r * cols + c];
@@ -290,16 +295,18 @@ impl Cfar2d {
         Ok(found)
     }
 
-    /// Hands each training cell of `(r, c)` in a `rows × cols` map to `visit`, rows outer and
-    /// columns inner, each once (the guard rectangle skipped, the boundaries applied).
+    /// Folds `step` over each training cell of `(r, c)` in a `rows × cols` map, rows outer and
+    /// columns inner, each once (the guard rectangle skipped, the boundaries applied). The
+    /// accumulator goes by value, so a sum stays in registers.
     #[inline(always)]
-    fn training_cells(
+    fn fold_training<A>(
         &self,
         map: &[f32],
         (rows, cols): (usize, usize),
         (r, c): (usize, usize),
-        visit: &mut impl FnMut(f32) -> Result<(), CfarError>,
-    ) -> Result<(), CfarError> {
+        init: A,
+        mut step: impl FnMut(A, f32) -> Result<A, CfarError>,
+    ) -> Result<A, CfarError> {
         let (rg, rt) = (
             self.rows.guard as isize,
             (self.rows.guard + self.rows.train) as isize,
@@ -308,6 +315,7 @@ impl Cfar2d {
             self.cols.guard as isize,
             (self.cols.guard + self.cols.train) as isize,
         );
+        let mut acc = init;
         for dr in -rt..=rt {
             let Some(rr) = neighbour_fast(r, dr, rows, self.rows.boundary) else {
                 continue;
@@ -317,11 +325,11 @@ impl Cfar2d {
                     continue;
                 }
                 if let Some(cc) = neighbour_fast(c, dc, cols, self.cols.boundary) {
-                    visit(map[rr * cols + cc])?;
+                    acc = step(acc, map[rr * cols + cc])?;
                 }
             }
         }
-        Ok(())
+        Ok(acc)
     }
 }
 

@@ -48,14 +48,9 @@ pub fn range_doppler_rows(
     range_doppler_rows_keeping(cube, options, scratch, first, out, |_, _, _, _| {})
 }
 
-/// Range bins whose Doppler columns are formed together: 16 samples of [`CQ15`] are one 64-byte
-/// cache line of each loop's row.
-const BIN_BLOCK: usize = 16;
-
 /// [`range_doppler_rows`] that also hands each spectrum it forms to `keep` (range bin, channel,
 /// block exponent, spectrum in natural FFT order), for a host that reads them again (the point
-/// cloud) rather than transform them twice. The map's values are the same. Spectra come
-/// channel by channel within blocks of range bins (each `(bin, channel)` once).
+/// cloud) rather than transform them twice. The map's values are the same.
 ///
 /// # Errors
 /// [`DopplerError`] on size mismatches (rows beyond the cube, or a part row).
@@ -79,19 +74,14 @@ pub fn range_doppler_rows_keeping(
         });
     }
     out.fill(0.0);
-    // Blocks of range bins, each channel's columns of the block in turn: a column reads one
-    // sample per loop, `bins` apart, and the block's columns share those cache lines. Every
-    // row still sums its channels in order, so the values do not depend on the block.
-    for (b, block) in out.chunks_mut(BIN_BLOCK * nd).enumerate() {
+    for (i, row) in out.chunks_exact_mut(nd).enumerate() {
+        let bin = first + i;
         for ch in 0..cube.channels() {
-            for (i, row) in block.chunks_exact_mut(nd).enumerate() {
-                let bin = first + b * BIN_BLOCK + i;
-                let exp = doppler_column(cube, ch, bin, options, scratch)?;
-                for (o, &z) in row.iter_mut().zip(scratch.iter()) {
-                    *o += magnitude(z, exp);
-                }
-                keep(bin, ch, exp, scratch);
+            let exp = doppler_column(cube, ch, bin, options, scratch)?;
+            for (o, &z) in row.iter_mut().zip(scratch.iter()) {
+                *o += magnitude(z, exp);
             }
+            keep(bin, ch, exp, scratch);
         }
     }
     Ok(())
