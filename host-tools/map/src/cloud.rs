@@ -5,7 +5,7 @@ use metamoran_bundle::Bundle;
 use metamoran_dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
 use metamoran_dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
 use metamoran_dsp::window::WindowKind;
-use metamoran_process::frame::{FrameOptions, FrameProcessor};
+use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 
 /// The detector settings for mapping: CA-CFAR 9.5 dB over magnitude (×3), 2 guard and 8
 /// training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks within
@@ -94,11 +94,41 @@ impl Clouds {
     ) -> Result<Vec<RadarPoint>, MapError> {
         bundle.read_radar_frame(frame, &mut self.samples)?;
         let spectra = self.processor.process(&self.samples)?;
+        self.points(&spectra, prior)
+    }
+
+    /// The points of the processed `spectra` unfolded towards `prior`.
+    fn points(
+        &mut self,
+        spectra: &FrameSpectra,
+        prior: Option<[f32; 2]>,
+    ) -> Result<Vec<RadarPoint>, MapError> {
         let options = CloudOptions {
             velocity_prior: prior,
             ..self.options
         };
-        Ok(self.processor.points(&spectra, &self.geometry, &options)?)
+        Ok(self.processor.points(spectra, &self.geometry, &options)?)
+    }
+
+    /// [`Self::frame`] without a prior, then, if `choose` finds one in those folded points,
+    /// the points again with it: the frame is read and transformed once, only its cloud is
+    /// formed twice.
+    ///
+    /// # Errors
+    /// [`MapError`] naming the file if the frame cannot be read.
+    pub fn frame_unfolded(
+        &mut self,
+        bundle: &mut Bundle,
+        frame: u32,
+        choose: impl FnOnce(&[RadarPoint]) -> Option<[f32; 2]>,
+    ) -> Result<Vec<RadarPoint>, MapError> {
+        bundle.read_radar_frame(frame, &mut self.samples)?;
+        let spectra = self.processor.process(&self.samples)?;
+        let folded = self.points(&spectra, None)?;
+        match choose(&folded) {
+            Some(prior) => self.points(&spectra, Some(prior)),
+            None => Ok(folded),
+        }
     }
 
     /// The span of radial velocity the board measures unambiguously, m/s (twice its largest

@@ -80,15 +80,10 @@ pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, MapError> {
         let points = match last_velocity {
             Some(v) => clouds.frame(&mut bundle, f, Some(v))?,
             None => {
-                let folded = clouds.frame(&mut bundle, f, None)?;
-                match unfold_search(
-                    &detections(&folded),
-                    clouds.velocity_span_mps(),
-                    &UnfoldGrid::default(),
-                ) {
-                    Some((v, _)) => clouds.frame(&mut bundle, f, Some(v))?,
-                    None => folded,
-                }
+                let span = clouds.velocity_span_mps();
+                clouds.frame_unfolded(&mut bundle, f, |folded| {
+                    unfold_search(&detections(folded), span, &UnfoldGrid::default()).map(|(v, _)| v)
+                })?
             }
         };
         let dets = detections(&points);
