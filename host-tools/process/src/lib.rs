@@ -10,6 +10,7 @@
 
 pub mod calibrate;
 pub mod camera_points;
+pub mod contest;
 mod error;
 pub mod eval;
 pub mod frame;
@@ -455,13 +456,38 @@ fn metamoran_frame(
     let radar = &bundle.scene.radar;
     let moving = metamoran::MovingScene::new(radar, samples)?;
     let beamwidth = metamoran::beamwidth_deg(&metamoran_dsp::array::VirtualArray::new(radar)?);
-    let Some(q) = module else {
-        let mut scene = metamoran::StaticScene::calibrated(radar, recorded, bundle.calibration())?;
-        return Ok(objects
-            .iter()
-            .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
-            .collect());
+    let mut estimates = match module {
+        Some(q) => module_frame(q, frame, objects, moving.as_ref(), beamwidth)?,
+        None => {
+            let mut scene =
+                metamoran::StaticScene::calibrated(radar, recorded, bundle.calibration())?;
+            objects
+                .iter()
+                .map(|o| metamoran::estimate(&mut scene, moving.as_ref(), o))
+                .collect()
+        }
     };
+    let contest = contest::Radar {
+        beam: beamwidth.to_radians().sin(),
+        max_range_m: radar.max_range_m(),
+        fold_mps: moving
+            .as_ref()
+            .map_or(f64::INFINITY, metamoran::MovingScene::fold_mps),
+    };
+    contest::settle(&mut estimates, objects, &contest, |v, d| {
+        moving.as_ref()?.direction(v, d).map(f64::from)
+    });
+    Ok(estimates)
+}
+
+/// The module's share of one frame over the link, merged with the host's Doppler pass.
+fn module_frame(
+    q: &mut QemuEdge,
+    frame: u32,
+    objects: &[CameraObject],
+    moving: Option<&metamoran::MovingScene>,
+    beamwidth: f64,
+) -> Result<Vec<ObjectEstimate>, ProcessError> {
     let hints: Vec<_> = objects
         .iter()
         .map(|o| metamoran::wire_hint(frame, o))
@@ -477,7 +503,7 @@ fn metamoran_frame(
                 o,
                 &ObjectHint::from_wire(h),
                 results.next().flatten(),
-                moving.as_ref(),
+                moving,
                 beamwidth,
             ),
             None => ObjectEstimate::missed(o),

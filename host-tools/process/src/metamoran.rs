@@ -527,6 +527,56 @@ impl MovingScene {
         let (inside, outside) = focus;
         outside > ELSEWHERE_RATIO * inside
     }
+
+    /// sin(azimuth) of the strongest direction of the reflection at `depth_m` in the Doppler bin
+    /// of `velocity_mps`, whatever its alias: the bin compensated for each alias TDM can tell
+    /// apart and steered over a grid of 32 steps per beamwidth, on the range bin of the depth
+    /// and its two neighbours; the strongest cell decides (a wrong alias spreads the beam and
+    /// steers it, which would put a mover where it is not). `None` for a depth outside the
+    /// frame. O(aliases · 3 · 32·span · channels).
+    pub fn direction(&self, velocity_mps: f64, depth_m: f64) -> Option<f32> {
+        let nd = self.spectra.len();
+        let n = (velocity_mps / self.bin_mps).round();
+        let bin = (depth_m / f64::from(self.edge.geometry().bin_m)).round();
+        if !(n.is_finite() && (0.0..self.m as f64).contains(&bin)) {
+            return None;
+        }
+        let q = (n.rem_euclid(nd as f64) as usize).min(nd - 1);
+        let sp = &self.spectra[q];
+        let centre = bin as usize;
+        let bins = centre.saturating_sub(1)..=(centre + 1).min(self.m - 1);
+        let steps = 32 * self.edge.array().span().max(1);
+        let steering: Vec<(f32, Vec<C32>)> = (0..=steps)
+            .map(|i| {
+                let s = -1.0 + 2.0 * i as f32 / steps as f32;
+                (s, self.steering(s))
+            })
+            .collect();
+        let mut best = (f32::NEG_INFINITY, None);
+        for alias in self.aliases() {
+            let comp = self.compensation(q, alias);
+            for k in bins.clone() {
+                let column: Vec<C32> = comp
+                    .iter()
+                    .enumerate()
+                    .map(|(ch, &c)| sp[ch * self.m + k] * c)
+                    .collect();
+                for (s, steer) in &steering {
+                    let z: C32 = column.iter().zip(steer).map(|(&x, &w)| x * w).sum();
+                    if z.norm_sqr() > best.0 {
+                        best = (z.norm_sqr(), Some(*s));
+                    }
+                }
+            }
+        }
+        best.1
+    }
+
+    /// The span of radial velocities one Doppler bin's aliases repeat over, m/s (Doppler length
+    /// · bin): two velocities this far apart are one bin's, told apart only by TDM's phases.
+    pub fn fold_mps(&self) -> f64 {
+        self.spectra.len() as f64 * self.bin_mps
+    }
 }
 
 /// How much stronger than inside an object's span the Doppler energy at a candidate's range must
@@ -734,7 +784,15 @@ pub fn merge(
     let lead_within_m =
         crate::lead::moves(&obj.class).then(|| crate::camera_points::depth_extent(&obj.class));
     let found = moving.map_or_else(Vec::new, |mv| mv.search(hint, lead_within_m));
-    let evidence = evidence(obj, on_module.as_ref(), &found, beamwidth_deg);
+    conclude(
+        obj,
+        evidence(obj, on_module.as_ref(), &found, beamwidth_deg),
+    )
+}
+
+/// The estimate the trust test's verdict on `evidence` gives `obj`: its depth image when the
+/// depth is trusted, "not detected" otherwise; the confidence and the evidence kept for `eval`.
+pub fn conclude(obj: &CameraObject, evidence: Evidence) -> ObjectEstimate {
     let verdict = evidence.judge();
     let mut estimate = match verdict {
         Some(v) if v.detected() => {

@@ -57,6 +57,9 @@ pub const MIN_DOPPLER_DB: f64 = 20.0;
 pub const LEAD_DB: f64 = 10.0;
 /// Radial velocities this close, m/s, are one mover's (a bin or two apart on every board).
 pub const SAME_MOVER_MPS: f64 = 1.0;
+/// Narrowest log-ratio of height bounds [`Evidence::camera_log_density`] counts (a 1 % range
+/// window): the bounds are never that tight, this only keeps the logarithm finite.
+const MIN_LOG_WIDTH: f64 = 0.01;
 /// Log-odds given to a candidate that has no rival, nats.
 const NO_RIVAL_MARGIN: f64 = 8.0;
 
@@ -300,6 +303,49 @@ impl Evidence {
         RADAR_NATS_PER_DB * c.over_floor_db + doppler - side_lobe
             + self.monocular(c.depth_m)
             + self.height(c.depth_m)
+    }
+
+    /// Log-density of the camera's cues at horizontal range `d` m, for comparing two objects'
+    /// claims on one reflection ([`crate::contest`]): the monocular Laplace's (its log-prior
+    /// less ln 2b; without a monocular range, flat over `max_range_m`) plus the height bound's,
+    /// flat in log-range between its bounds (its log-prior less the log of their log-ratio,
+    /// [`VAGUE`] without bounds). A narrow cue that holds `d` outweighs a wide one that also
+    /// holds it. O(1).
+    pub fn camera_log_density(&self, d: f64, max_range_m: f64) -> f64 {
+        let monocular = self.monocular_m.map_or(-max_range_m.max(1.0).ln(), |m| {
+            let b = monocular_error_m(d.max(m)) / std::f64::consts::LN_2;
+            self.monocular(d) - (2.0 * b).ln()
+        });
+        let width = self
+            .height
+            .map_or(VAGUE, |h| (h.far_m / h.near_m.max(1e-3)).ln().min(VAGUE));
+        monocular + self.height(d) - width.max(MIN_LOG_WIDTH).ln()
+    }
+
+    /// This evidence without the candidates of one reflection: those from 1 m in front of
+    /// `depth_m` to the object's extent behind it, of the same mover as `velocity_mps` (within
+    /// [`SAME_MOVER_MPS`]) or, for `None`, static. What the object is judged on when another
+    /// object owns that reflection ([`crate::contest`]).
+    pub fn without(&self, depth_m: f64, velocity_mps: Option<f64>) -> Self {
+        let reach = self.extent_m.max(1.0);
+        let same = |c: &Candidate| {
+            let behind = c.depth_m - depth_m;
+            let mover = match (c.velocity_mps, velocity_mps) {
+                (None, None) => true,
+                (Some(a), Some(b)) => (a - b).abs() <= SAME_MOVER_MPS,
+                _ => false,
+            };
+            mover && (-1.0..=reach).contains(&behind)
+        };
+        Self {
+            candidates: self
+                .candidates
+                .iter()
+                .filter(|c| !same(c))
+                .copied()
+                .collect(),
+            ..self.clone()
+        }
     }
 
     /// The candidate the radar and the camera together support best, with its confidence;
@@ -726,5 +772,82 @@ mod tests {
             extent_m: 1.5,
         };
         assert_eq!(e.judge(), None);
+    }
+
+    #[test]
+    fn a_narrow_camera_cue_that_holds_the_depth_is_the_likelier_owner() {
+        let e = |monocular_m, height| Evidence {
+            candidates: vec![candidate(90.0, 30.0)],
+            monocular_m,
+            height,
+            ground: None,
+            beamwidth_deg: 14.5,
+            extent_m: 6.0,
+        };
+        let d = 90.0;
+        // Closed form without cues: flat over 300 m, and the vague height's ln 3.
+        let blind = e(None, None).camera_log_density(d, 300.0);
+        assert!(
+            (blind - (-(300.0f64).ln() - VAGUE.ln())).abs() < 1e-12,
+            "{blind}"
+        );
+        // Height bounds 80-100 m hold 90 m more tightly than 50-450 m.
+        let tight = e(None, cue(80.0, 100.0)).camera_log_density(d, 300.0);
+        let wide = e(None, cue(50.0, 450.0)).camera_log_density(d, 300.0);
+        assert!(
+            (tight - wide - ((450.0f64 / 50.0).ln() / (100.0f64 / 80.0).ln()).ln()).abs() < 1e-9
+        );
+        assert!(tight > wide && wide > blind, "{tight} {wide} {blind}");
+        // Bounds that exclude the depth fall below the wide ones.
+        let elsewhere = e(None, cue(150.0, 200.0)).camera_log_density(d, 300.0);
+        assert!(elsewhere < wide, "{elsewhere} {wide}");
+        // A monocular range at the depth beats none; one 60 m off does not.
+        let b = monocular_error_m(d) / std::f64::consts::LN_2;
+        let on = e(Some(d), None).camera_log_density(d, 300.0);
+        assert!((on - (-(2.0 * b).ln() - VAGUE.ln())).abs() < 1e-12, "{on}");
+        assert!(on > blind);
+        assert!(e(Some(d + 150.0), None).camera_log_density(d, 300.0) < on);
+    }
+
+    #[test]
+    fn without_drops_one_reflection_and_keeps_the_rest() {
+        let mover = |depth_m, velocity_mps| Candidate {
+            velocity_mps,
+            ..candidate(depth_m, 30.0)
+        };
+        let e = Evidence {
+            candidates: vec![
+                mover(91.5, Some(-12.7)), // 1 m in front: the same reflection
+                mover(92.3, Some(-12.7)),
+                mover(96.0, Some(-12.2)), // behind, within the 6 m extent, same mover
+                mover(92.3, Some(3.0)),   // another mover at the same range
+                mover(92.3, None),        // a static candidate there
+                mover(99.0, Some(-12.7)), // beyond the extent
+                mover(90.0, Some(-12.7)), // more than 1 m in front
+            ],
+            monocular_m: None,
+            height: None,
+            ground: None,
+            beamwidth_deg: 14.5,
+            extent_m: 6.0,
+        };
+        let kept: Vec<_> = e
+            .without(92.3, Some(-12.7))
+            .candidates
+            .iter()
+            .map(|c| (c.depth_m, c.velocity_mps))
+            .collect();
+        assert_eq!(
+            kept,
+            [
+                (92.3, Some(3.0)),
+                (92.3, None),
+                (99.0, Some(-12.7)),
+                (90.0, Some(-12.7))
+            ]
+        );
+        let statics = e.without(92.3, None).candidates;
+        assert_eq!(statics.len(), 6);
+        assert!(statics.iter().all(|c| c.velocity_mps.is_some()));
     }
 }
