@@ -260,3 +260,73 @@ fn rendered_mask_spans_the_objects_geometry() {
     }
     assert!(checked >= 5, "only {checked} objects checked");
 }
+
+/// `MovingScene::direction` against the simulator's own directions: two movers in one Doppler
+/// bin at different ranges and azimuths, each moving faster than the board's unambiguous
+/// velocity (another alias), are each found where they are, within an eighth of a beamwidth
+/// (the contest's margin), whichever of the bin's aliased velocities is asked.
+#[test]
+fn a_movers_direction_is_measured_whatever_its_alias() {
+    use metamoran_process::metamoran::MovingScene;
+    for kind in [RadarKind::Xwr18xx, RadarKind::Cascade] {
+        let c = config(kind, 59.4, 16);
+        let nd = c.doppler_fft_len();
+        let bin_mps = f64::from(c.doppler_to_velocity(1.0, nd));
+        // Bin 3, one unambiguous interval down (and, on the cascade, two up).
+        let alias = if kind == RadarKind::Cascade {
+            2.0
+        } else {
+            -1.0
+        };
+        let v = (3.0 + alias * nd as f64) * bin_mps;
+        let movers = [(21.0, -0.3), (37.5, 0.2)];
+        let echoes: Vec<Echo> = movers
+            .iter()
+            .map(|&(range, sin_az)| Echo {
+                range,
+                sin_az,
+                sin_el: 0.0,
+                velocity: v,
+                amplitude: 100.0,
+                phase: 0.4,
+            })
+            .collect();
+        let bytes = synthesize(
+            &c,
+            &echoes,
+            &[],
+            None,
+            &mut rand_pcg::Pcg64Mcg::seed_from_u64(6),
+        );
+        let mut s = vec![CQ15::default(); c.samples_per_frame()];
+        deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut s).unwrap();
+        let scene = MovingScene::new(&c, &s).unwrap().expect("16 loops");
+        // One bin's aliases repeat every λ / (2 · loop period).
+        let fold = scene.fold_mps();
+        let closed_form = c.wavelength_m() / (2.0 * c.loop_period_s());
+        assert!(
+            (fold - closed_form).abs() < 1e-6 * closed_form,
+            "{kind:?}: fold {fold} m/s, λ / 2T {closed_form} m/s"
+        );
+        // The beam, sin(az): 2 / the aperture in half-wavelengths.
+        let positions: Vec<i32> = (0..c.channels())
+            .filter_map(|ch| c.channel_position(ch))
+            .collect();
+        let span = positions.iter().max().unwrap() - positions.iter().min().unwrap() + 1;
+        let tolerance = 0.125 * 2.0 / f64::from(span);
+        for &(range, sin_az) in &movers {
+            for asked in [v, v - fold, v + 3.0 * fold] {
+                let s = scene.direction(asked, range).expect("a depth in the frame");
+                assert!(
+                    (f64::from(s) - sin_az).abs() <= tolerance,
+                    "{kind:?} at {range} m asked at {asked:.1} m/s: sin(az) {s}, truth {sin_az}"
+                );
+            }
+        }
+        assert_eq!(
+            scene.direction(v, 1.0e4),
+            None,
+            "{kind:?}: beyond the frame"
+        );
+    }
+}
