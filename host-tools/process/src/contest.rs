@@ -14,10 +14,11 @@
 //! Two verdicts contest a reflection when both are the Doppler path's, in one Doppler bin
 //! (velocities within [`SAME_MOVER_MPS`] once folded by the bin's aliases: each object focuses
 //! the bin with the alias that suits its own direction), their depths are within
-//! [`SAME_DEPTH_M`], and their masks lie within a beamwidth of each other. The radar then
-//! measures where the reflection comes from ([`crate::metamoran::MovingScene::direction`]), far
-//! finer than the beam at a mover's signal-to-noise: the mask it lies nearer to owns it. Only
-//! when the masks are too close for that does the camera decide: the object whose cues make
+//! [`SAME_DEPTH_M`], and their masks lie within [`REACH_BEAMS`] beamwidths of each other (a
+//! wrong alias steers a reflection by up to a beam). The radar then measures where the
+//! reflection comes from ([`crate::metamoran::MovingScene::direction`]), far finer than the beam
+//! at a mover's signal-to-noise: the mask it lies nearer to owns it. Only when the masks are
+//! within a beam and too close for that does the camera decide: the object whose cues make
 //! that depth more likely ([`Evidence::camera_log_density`]); a tie loses both. A loser is
 //! judged again on its other candidates, and the contest repeats until no two objects claim one
 //! reflection.
@@ -38,6 +39,15 @@ pub const SAME_DEPTH_M: f64 = 1.0;
 /// How much nearer to one mask than to the other, in beamwidths, a mover's measured direction
 /// must lie to decide the contest; nearer than that the camera decides.
 pub const DIRECTION_MARGIN_BEAMS: f64 = 0.125;
+
+/// How far apart two masks may lie, in beamwidths, for their objects to contest one mover's
+/// reflection: a beam, and another for the wrong Doppler alias. Each object focuses a Doppler
+/// bin with the alias that suits its own direction, and with TDM a wrong alias steers the beam:
+/// by a whole beamwidth on a two-slot board (the second slot's half of the array flipped by π),
+/// which puts a mover's reflection into a mask a beam and more away, past the guard of the
+/// object's own check against other directions. Beyond a beam apart only the radar's measured
+/// direction decides.
+pub const REACH_BEAMS: f64 = 2.0;
 
 /// What a contest needs to know of the radar.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,15 +87,17 @@ pub struct Claim<'a> {
 }
 
 impl Claim<'_> {
-    /// Whether `self` and `other` claim one reflection of `radar`'s.
-    fn contests(&self, other: &Claim<'_>, radar: &Radar) -> bool {
+    /// The gap between `self`'s and `other`'s masks, in beamwidths of `radar`, if they claim
+    /// one reflection (`None` otherwise).
+    fn contests(&self, other: &Claim<'_>, radar: &Radar) -> Option<f64> {
         let (a, b) = (self.verdict, other.verdict);
         let same_bin = match (a.velocity_mps, b.velocity_mps) {
             (Some(v), Some(w)) => radar.same_bin(v, w),
             _ => false,
         };
-        let gap = self.span.0.max(other.span.0) - self.span.1.min(other.span.1);
-        same_bin && (a.depth_m - b.depth_m).abs() <= SAME_DEPTH_M && gap <= radar.beam
+        let gap = (self.span.0.max(other.span.0) - self.span.1.min(other.span.1)) / radar.beam;
+        (same_bin && (a.depth_m - b.depth_m).abs() <= SAME_DEPTH_M && gap <= REACH_BEAMS)
+            .then_some(gap)
     }
 
     /// How far sin(azimuth) `s` lies outside the mask's span (0 inside).
@@ -109,9 +121,9 @@ pub fn losers(
             let (Some(a), Some(b)) = (a, b) else {
                 continue;
             };
-            if !a.contests(b, radar) {
+            let Some(gap) = a.contests(b, radar) else {
                 continue;
-            }
+            };
             // The radar's side: where a mover's reflection comes from.
             let measured = a
                 .verdict
@@ -119,13 +131,18 @@ pub fn losers(
                 .and_then(|v| direction(v, a.verdict.depth_m))
                 .map(|s| a.off(s) - b.off(s))
                 .filter(|d| d.abs() > DIRECTION_MARGIN_BEAMS * radar.beam);
-            // The camera's side: which object makes that depth more likely.
-            let nearer = measured.unwrap_or_else(|| {
+            // The camera's side, for masks within a beam: which object makes that depth more
+            // likely. Masks further apart than that the radar tells apart; if it cannot say
+            // which one the reflection comes from, both keep it.
+            let camera = || {
                 b.evidence
                     .camera_log_density(b.verdict.depth_m, radar.max_range_m)
                     - a.evidence
                         .camera_log_density(a.verdict.depth_m, radar.max_range_m)
-            });
+            };
+            let Some(nearer) = measured.or_else(|| (gap <= 1.0).then(camera)) else {
+                continue;
+            };
             if nearer >= 0.0 {
                 lost[i] = true;
             }
@@ -261,13 +278,41 @@ mod tests {
         assert_eq!(l, [false, false]);
     }
 
+    /// Session 28's fresh seed 12308-0035: a person nearly still at 176 m (mask at −12.1°) took
+    /// the reflection of a car at 125 m (6.2…8.4°, −3.6 m/s) with the alias one fold down, which
+    /// steers it a beam toward the person, past the guard of its own check; the masks are 1.3
+    /// beams apart.
     #[test]
-    fn only_one_movers_reflection_within_a_beam_is_contested() {
+    fn a_wrong_alias_steers_a_reflection_a_beam_away() {
+        let person = mover(127.617, Some(-32.59), (109.6, 971.7));
+        let car = mover(127.617, Some(-3.621), (100.6, 803.2));
+        let (person_span, car_span) = ((-0.210, -0.210), (0.108, 0.145));
+        let l = lost(
+            (&person, person_span),
+            (&car, car_span),
+            &SMALL,
+            Some(0.127),
+        );
+        assert_eq!(l, [true, false]);
+    }
+
+    #[test]
+    fn only_one_movers_reflection_within_reach_is_contested() {
         let a = mover(92.3, Some(-12.7), (50.0, 455.0));
         let b = mover(92.5, Some(-12.6), (80.0, 110.0));
-        let (sa, sb) = ((-0.30, -0.28), (0.0, 0.01));
-        // Masks more than a beam apart: the radar tells them apart already.
+        // Masks more than two beams apart: no alias steers a reflection that far.
+        let (sa, sb) = ((-0.60, -0.55), (0.0, 0.01));
         assert_eq!(lost((&a, sa), (&b, sb), &SMALL, Some(0.0)), [false, false]);
+        // Between one and two beams apart only the measured direction decides, never the
+        // camera (b's tighter height bounds would have it win).
+        let (sa, sb) = ((-0.30, -0.28), (0.0, 0.01));
+        assert_eq!(lost((&a, sa), (&b, sb), &SMALL, Some(0.0)), [true, false]);
+        assert_eq!(lost((&a, sa), (&b, sb), &SMALL, Some(-0.29)), [false, true]);
+        assert_eq!(lost((&a, sa), (&b, sb), &SMALL, None), [false, false]);
+        assert_eq!(
+            lost((&a, sa), (&b, sb), &SMALL, Some(-0.14)),
+            [false, false]
+        );
         // Depths more than 1 m apart, or another Doppler bin: two reflections.
         let sa = (-0.20, -0.18);
         let deeper = mover(93.6, Some(-12.7), (50.0, 455.0));
