@@ -5,6 +5,7 @@
 //! ```text
 //! Doppler bin ─▶ template search ─▶ strongest return d*
 //!             └▶ range profile over the span ─▶ nearest peak within LEAD_DB, ≤ extent in front ─▶ lead
+//!                                              └▶ (no peak) −6 dB edge of a return too wide ─▶ lead
 //! ```
 //!
 //! The depth is about the object's closest point. A far car's mask is a few pixels, so its
@@ -14,6 +15,10 @@
 //! bin offers one). The profile is the contour's directions without their relative ranges: with
 //! them, the template moved forward by its own depth extent lines its far points up with the
 //! closest return, a ghost in front.
+//!
+//! When the body is shallower than the range window's main lobe (a car's 3 m side at the
+//! far-moving boards' 1.3 m bins), its near end shows no peak of its own but widens the return:
+//! the shoulder reads the near end from where the profile falls 6 dB under the peak.
 
 use metamoran_dsp::search::depth::SearchResult;
 use metamoran_dsp::wire::Score;
@@ -69,23 +74,61 @@ pub fn leading_edge(
     let peak = Some(at(strongest)).filter(|&p| p > 0.0)?;
     let least = peak * 10f32.powf(-(crate::trust::LEAD_DB as f32) / 10.0);
     let first = strongest.saturating_sub(reach).max(1);
-    let b = (first..d.saturating_sub(LEAD_MIN_BINS - 1)).find(|&b| {
+    let (depth_bins, v) = match (first..d.saturating_sub(LEAD_MIN_BINS - 1)).find(|&b| {
         let v = at(b);
         v >= least && v >= at(b - 1) && v >= at(b + 1)
-    })?;
-    let (l, v, r) = (at(b - 1), at(b), at(b + 1));
-    let curve = l - 2.0 * v + r;
-    let offset = if curve < 0.0 {
-        (0.5 * (l - r) / curve).clamp(-0.5, 0.5)
-    } else {
-        0.0
+    }) {
+        Some(b) => (b as f32 + vertex(at(b - 1), at(b), at(b + 1)), at(b)),
+        None => shoulder(&at, strongest, first)
+            .filter(|&(edge, _)| edge <= search.depth_bins - SHOULDER_MIN_BINS)?,
     };
     // As far over the floor as the choice, less what the profile drops by from its peak.
     let db = 10.0 * (search.peak / search.floor).log10() - 10.0 * (peak / v).log10();
     Some(Lead {
-        depth_m: f64::from((b as f32 + offset) * bin_m),
+        depth_m: f64::from(depth_bins * bin_m),
         over_floor_db: Score::new(db, true).over_floor_db(),
     })
+}
+
+/// How far the vertex of the parabola through `l`, `v`, `r` (at −1, 0, +1) lies from the
+/// middle, bins (0 where they do not curve down; at most half a bin).
+fn vertex(l: f32, v: f32, r: f32) -> f32 {
+    let curve = l - 2.0 * v + r;
+    if curve < 0.0 {
+        (0.5 * (l - r) / curve).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    }
+}
+
+/// Half the width, in bins, of a point reflector's return at a quarter of its power (−6 dB):
+/// the Hann range window's amplitude is half its peak one bin off.
+pub const POINT_HALF_WIDTH_BINS: f32 = 1.0;
+
+/// How far in front of the choice, bins, a shoulder's edge must lie to be a lead: a point
+/// reflector's measured −6 dB edge (interpolated in dB between bins) lies within a fifth of a
+/// bin of it wherever it falls between bins.
+pub const SHOULDER_MIN_BINS: f32 = 0.5;
+
+/// The closest point of a return too wide for one reflector, when the body in front of the
+/// strongest return lies within its main lobe and shows no peak of its own: where the profile
+/// `at` first falls under a quarter of the strongest return's power in front of bin
+/// `strongest` (searching no nearer than bin `first`, interpolated in dB between bins),
+/// [`POINT_HALF_WIDTH_BINS`] back: the nearest point a reflector as strong as the peak would
+/// put that edge at. With its profile value there. `None` if the profile does not fall by
+/// then. O(bins in front).
+fn shoulder(at: &impl Fn(usize) -> f32, strongest: usize, first: usize) -> Option<(f32, f32)> {
+    let quarter = at(strongest) / 4.0;
+    let b = (first..strongest).rev().find(|&b| at(b) < quarter)?;
+    let (below, above) = (at(b), at(b + 1));
+    let db = |p: f32| 10.0 * p.max(f32::MIN_POSITIVE).log10();
+    let crossing = b as f32 + ((db(quarter) - db(below)) / (db(above) - db(below))).clamp(0.0, 1.0);
+    let edge = crossing + POINT_HALF_WIDTH_BINS;
+    // The profile at the edge, interpolated in dB between its bins.
+    let k = edge.floor() as usize;
+    let t = edge - k as f32;
+    let value = 10f32.powf((db(at(k)) * (1.0 - t) + db(at(k + 1)) * t) / 10.0);
+    Some((edge, value))
 }
 
 #[cfg(test)]
@@ -171,12 +214,75 @@ mod tests {
         // 7 m in front of a car 6 m long.
         let far = profile(&[(100, 1000.0), (86, 500.0)]);
         assert_eq!(leading_edge(&far, &choice(100.0), BIN_M, 6.0), None);
-        // Two bins in front: the strongest return's own main lobe.
+        // A return two bins in front is no peak of its own, inside the strongest return's
+        // main lobe; the shoulder puts the lead at it (below).
         let lobe = profile(&[(100, 1000.0), (98, 900.0)]);
-        assert_eq!(leading_edge(&lobe, &choice(100.0), BIN_M, 6.0), None);
+        let got = leading_edge(&lobe, &choice(100.0), BIN_M, 6.0).unwrap();
+        assert!(
+            (got.depth_m / f64::from(BIN_M) - 98.0).abs() < 0.25,
+            "{got:?}"
+        );
         // A profile that only falls toward the radar.
         let clean = profile(&[(100, 1000.0)]);
         assert_eq!(leading_edge(&clean, &choice(100.0), BIN_M, 6.0), None);
+    }
+
+    /// Power of the Hann range window's response `offset` bins from a point reflector (1 at
+    /// 0, a quarter at ±1, 0 from ±2), in f64 from its closed form.
+    fn hann_power(offset: f64) -> f64 {
+        let x = offset.abs();
+        if x < 1e-9 {
+            return 1.0;
+        }
+        if (x - 1.0).abs() < 1e-9 {
+            return 0.25;
+        }
+        let sinc = (std::f64::consts::PI * x).sin() / (std::f64::consts::PI * x);
+        (sinc / (1.0 - x * x)).powi(2)
+    }
+
+    /// A profile of 200 bins: a floor of 1 and the power of reflectors at fractional bins
+    /// `(bin, power)`, added (the directions' powers add; their phases do not meet).
+    fn hann_profile(reflectors: &[(f64, f64)]) -> Vec<f32> {
+        (0..200)
+            .map(|b| {
+                let p: f64 = reflectors
+                    .iter()
+                    .map(|&(at, h)| h * hann_power(b as f64 - at))
+                    .sum();
+                (1.0 + p) as f32
+            })
+            .collect()
+    }
+
+    #[test]
+    fn one_reflector_has_no_shoulder_wherever_it_falls_between_bins() {
+        for k in 0..8 {
+            let at = 100.0 + f64::from(k) / 8.0;
+            let p = hann_profile(&[(at, 1.0e5)]);
+            let strongest = (0..200).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap();
+            let got = leading_edge(&p, &choice(at as f32), BIN_M, 6.0);
+            assert_eq!(got, None, "reflector at {at} (strongest bin {strongest})");
+            // The edge the shoulder would give is within a fifth of a bin of it.
+            let at_fn = |b: usize| p.get(b).copied().unwrap_or(0.0);
+            let (edge, _) = shoulder(&at_fn, strongest, 80).unwrap();
+            assert!((f64::from(edge) - at).abs() < 0.2, "{edge} for {at}");
+        }
+    }
+
+    #[test]
+    fn a_body_wider_than_one_reflector_leads_from_its_near_end() {
+        // A car's side 2.6 bins deep (3.3 m at the far-moving 8-element board's 1.29 m bins),
+        // its strongest scatterer at the back: no peak in front, but a return too wide for one
+        // reflector. The lead is near its near end: a front scatterer 5 dB weaker than the
+        // peak puts the −6 dB edge nearer to itself, so the lead is up to a bin behind it.
+        let body = [(97.4, 3.0e4), (98.3, 5.0e4), (99.1, 4.0e4), (100.0, 1.0e5)];
+        let p = hann_profile(&body);
+        let got = leading_edge(&p, &choice(100.0), BIN_M, 6.0).unwrap();
+        let bins = got.depth_m / f64::from(BIN_M);
+        assert!((97.4..98.4).contains(&bins), "{got:?}");
+        // Within LEAD_DB of the choice: the trust test can take it.
+        assert!(got.over_floor_db >= 30.0 - crate::trust::LEAD_DB, "{got:?}");
     }
 
     #[test]
