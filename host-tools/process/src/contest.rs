@@ -13,8 +13,8 @@
 //!
 //! Two verdicts contest a reflection when both are the Doppler path's, in one Doppler bin
 //! (velocities within [`SAME_MOVER_MPS`] once folded by the bin's aliases: each object focuses
-//! the bin with the alias that suits its own direction), their depths are within
-//! [`SAME_DEPTH_M`], and their masks lie within [`REACH_BEAMS`] beamwidths of each other (a
+//! the bin with the alias that suits its own direction), the returns they rest on are within
+//! [`SAME_DEPTH_M`] (a mover's body, behind the leading edge it reports), and their masks lie within [`REACH_BEAMS`] beamwidths of each other (a
 //! wrong alias steers a reflection by up to a beam). The radar then measures where the
 //! reflection comes from ([`crate::metamoran::MovingScene::direction`]), far finer than the beam
 //! at a mover's signal-to-noise: the mask it lies nearer to owns it. Only when the masks are
@@ -96,7 +96,7 @@ impl Claim<'_> {
             _ => false,
         };
         let gap = (self.span.0.max(other.span.0) - self.span.1.min(other.span.1)) / radar.beam;
-        (same_bin && (a.depth_m - b.depth_m).abs() <= SAME_DEPTH_M && gap <= REACH_BEAMS)
+        (same_bin && (a.reflection_m - b.reflection_m).abs() <= SAME_DEPTH_M && gap <= REACH_BEAMS)
             .then_some(gap)
     }
 
@@ -128,7 +128,7 @@ pub fn losers(
             let measured = a
                 .verdict
                 .velocity_mps
-                .and_then(|v| direction(v, a.verdict.depth_m))
+                .and_then(|v| direction(v, a.verdict.reflection_m))
                 .map(|s| a.off(s) - b.off(s))
                 .filter(|d| d.abs() > DIRECTION_MARGIN_BEAMS * radar.beam);
             // The camera's side, for masks within a beam: which object makes that depth more
@@ -285,8 +285,26 @@ mod tests {
     #[test]
     fn a_wrong_alias_steers_a_reflection_a_beam_away() {
         let person = mover(127.617, Some(-32.59), (109.6, 971.7));
-        let car = mover(127.617, Some(-3.621), (100.6, 803.2));
+        let mut car = mover(127.617, Some(-3.621), (100.6, 803.2));
         let (person_span, car_span) = ((-0.210, -0.210), (0.108, 0.145));
+        let l = lost(
+            (&person, person_span),
+            (&car, car_span),
+            &SMALL,
+            Some(0.127),
+        );
+        assert_eq!(l, [true, false]);
+        // The car reports its leading edge 1.8 m in front: the body behind it is still the
+        // reflection the person claims.
+        car.extent_m = 6.0;
+        car.candidates.push(Candidate {
+            depth_m: 125.77,
+            over_floor_db: 34.0,
+            survives: true,
+            velocity_mps: Some(-3.621),
+        });
+        let v = car.judge().unwrap();
+        assert_eq!((v.depth_m, v.reflection_m), (125.77, 127.617));
         let l = lost(
             (&person, person_span),
             (&car, car_span),

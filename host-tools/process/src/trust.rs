@@ -256,6 +256,10 @@ pub struct Features {
 pub struct Verdict {
     /// Chosen depth, m.
     pub depth_m: f64,
+    /// Depth of the strongest return the choice rests on, m: the chosen depth, or, when that
+    /// is a mover's leading edge, its body's return behind it (what another object may claim:
+    /// [`crate::contest`]).
+    pub reflection_m: f64,
     /// Probability that the depth is within 1 m of the truth.
     pub confidence: f64,
     /// Radial velocity of the chosen candidate, m/s, when the Doppler path found it.
@@ -393,6 +397,7 @@ impl Evidence {
         };
         Some(Verdict {
             depth_m: chosen.depth_m,
+            reflection_m: strongest.depth_m,
             velocity_mps: strongest.velocity_mps,
             confidence: confidence(&features),
             features,
