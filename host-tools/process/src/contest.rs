@@ -14,11 +14,12 @@
 //! Two verdicts contest a reflection when both are the Doppler path's, in one Doppler bin
 //! (velocities within [`SAME_MOVER_MPS`] once folded by the bin's aliases: each object focuses
 //! the bin with the alias that suits its own direction), the returns they rest on are within
-//! [`SAME_DEPTH_M`] (a mover's body, behind the leading edge it reports), and their masks lie within [`REACH_BEAMS`] beamwidths of each other (a
-//! wrong alias steers a reflection by up to a beam). The radar then measures where the
-//! reflection comes from ([`crate::metamoran::MovingScene::direction`]), far finer than the beam
-//! at a mover's signal-to-noise: the mask it lies nearer to owns it. Only when the masks are
-//! within a beam and too close for that does the camera decide: the object whose cues make
+//! [`SAME_DEPTH_M`] (a mover's body, behind the leading edge it reports), and their masks lie
+//! within [`REACH_BEAMS`] beamwidths of each other (a wrong alias steers a reflection by up to a
+//! beam). The radar then measures where the reflection comes from
+//! ([`crate::metamoran::MovingScene::direction`]), far finer than the beam at a mover's
+//! signal-to-noise: the mask it lies nearer to owns it. Only when the masks are within
+//! [`CAMERA_REACH_BEAMS`] and too close for that does the camera decide: the object whose cues make
 //! that depth more likely ([`Evidence::camera_log_density`]); a tie loses both. A loser is
 //! judged again on its other candidates, and the contest repeats until no two objects claim one
 //! reflection.
@@ -37,8 +38,13 @@ use crate::trust::{Evidence, SAME_MOVER_MPS, Verdict};
 pub const SAME_DEPTH_M: f64 = 1.0;
 
 /// How much nearer to one mask than to the other, in beamwidths, a mover's measured direction
-/// must lie to decide the contest; nearer than that the camera decides.
+/// must lie to decide the contest; nearer than that the camera decides (for masks within
+/// [`CAMERA_REACH_BEAMS`]) or nobody loses.
 pub const DIRECTION_MARGIN_BEAMS: f64 = 0.125;
+
+/// How far apart two masks may lie, in beamwidths, for the camera to decide a contest the
+/// radar's direction does not: masks further apart the beam itself tells apart.
+pub const CAMERA_REACH_BEAMS: f64 = 1.0;
 
 /// How far apart two masks may lie, in beamwidths, for their objects to contest one mover's
 /// reflection: a beam, and another for the wrong Doppler alias. Each object focuses a Doppler
@@ -131,8 +137,8 @@ pub fn losers(
                 .and_then(|v| direction(v, a.verdict.reflection_m))
                 .map(|s| a.off(s) - b.off(s))
                 .filter(|d| d.abs() > DIRECTION_MARGIN_BEAMS * radar.beam);
-            // The camera's side, for masks within a beam: which object makes that depth more
-            // likely. Masks further apart than that the radar tells apart; if it cannot say
+            // The camera's side, for masks within CAMERA_REACH_BEAMS: which object makes that
+            // depth more likely. Masks further apart the radar tells apart; if it cannot say
             // which one the reflection comes from, both keep it.
             let camera = || {
                 b.evidence
@@ -140,7 +146,7 @@ pub fn losers(
                     - a.evidence
                         .camera_log_density(a.verdict.depth_m, radar.max_range_m)
             };
-            let Some(nearer) = measured.or_else(|| (gap <= 1.0).then(camera)) else {
+            let Some(nearer) = measured.or_else(|| (gap <= CAMERA_REACH_BEAMS).then(camera)) else {
                 continue;
             };
             if nearer >= 0.0 {
