@@ -8,7 +8,8 @@
 //!   scenes, and it covers most of what the lidar sees;
 //! * the imaging board's network, on a tunnel (an environment held out of its training):
 //!   over every lidar pixel it is better than the submap, which is better than the frame, and
-//!   it is more than 50× as dense as the frame;
+//!   it is more than 50× as dense as the frame; on a street it did not see, its points are
+//!   within 0.1 m of the lidar's (median) and it beats IP-Basic, which beats the submap;
 //! * a model that breaks the contract, or a bad depth image, is refused with a message naming
 //!   the model.
 
@@ -139,11 +140,10 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
     );
 }
 
-#[test]
-fn the_imaging_network_completes_a_tunnel_it_never_saw() {
-    // The imaging board's network was trained on streets and parking areas only
-    // (scripts/train-radarhr, BOARD=imaging): the tunnel is the held-out environment.
-    let (_keep, dirs) = scenes(Preset::Tunnel, RadarKind::Imaging, 43, 1);
+/// The imaging board's report of scene 0 of `preset` at `seed`, mapped with its shipped network
+/// and its default submap options.
+fn imaging_report(preset: Preset, seed: u64) -> report::MapReport {
+    let (_keep, dirs) = scenes(preset, RadarKind::Imaging, seed, 1);
     let net = RadarHr::shipped_imaging().unwrap();
     let complete = |r: &[f32]| {
         net.complete(r)
@@ -156,6 +156,14 @@ fn the_imaging_network_completes_a_tunnel_it_never_saw() {
         &metamoran_map::network::Board::Imaging.submap_options(),
     )
     .unwrap();
+    rep
+}
+
+#[test]
+fn the_imaging_network_completes_a_tunnel_it_never_saw() {
+    // The imaging board's network was trained on streets and parking areas only
+    // (scripts/train-radarhr, BOARD=imaging): the tunnel is the held-out environment.
+    let rep = imaging_report(Preset::Tunnel, 43);
     let lidar = rep.lidar_pixels.unwrap().mae_m;
     eprintln!(
         "tunnel: MAE over every lidar pixel {lidar:?}, over both {:?}, density growth {:?} / {:?}",
@@ -175,7 +183,31 @@ fn the_imaging_network_completes_a_tunnel_it_never_saw() {
     // The paper's "more than 50×" density over a single frame.
     assert!(rep.network_density_growth_factor.unwrap() > 50.0, "{rep:?}");
     // Not asserted: against IP-Basic. In the tunnel, whose walls and ceiling fill the view at
-    // 3–5 m, IP-Basic's dilation is the better completion (README, issue #21 parts 3 and 4).
+    // 3–5 m, IP-Basic's dilation is as good a completion on some scenes (README, issue #21).
+}
+
+#[test]
+fn the_imaging_network_places_an_unseen_street_within_a_decimetre() {
+    // Issue #21's street goal for point accuracy: the median distance from the network's points
+    // to the nearest lidar point at most 0.1 m. Seed 44 is in neither training nor validation
+    // (streets 6000-6015). The network trained with the paper's loss alone was 0.3-0.4 m here.
+    let rep = imaging_report(Preset::Drive, 44);
+    let acc = rep.point_accuracy_m.unwrap();
+    let lidar = rep.lidar_pixels.unwrap().mae_m;
+    eprintln!("street: point accuracy {acc:?}, MAE over every lidar pixel {lidar:?}");
+    let network = acc.network.unwrap();
+    assert!(network <= 0.1, "network point accuracy {network} m");
+    // Over every lidar pixel each stage is better than the one before, the network by far.
+    let (frame, submap, ip_basic, network) = (
+        lidar.frame.unwrap(),
+        lidar.submap.unwrap(),
+        lidar.ip_basic.unwrap(),
+        lidar.network.unwrap(),
+    );
+    assert!(
+        network < 0.5 * ip_basic && ip_basic < submap && submap < frame,
+        "frame {frame}, submap {submap}, IP-Basic {ip_basic}, network {network}"
+    );
 }
 
 #[test]
