@@ -219,6 +219,8 @@ pub enum Environment {
     Tunnel,
     /// [`parking_area`]: rows of parked cars, lamp posts, building fronts far off.
     ParkingArea,
+    /// [`garage`]: a covered car park, a low ceiling over rows of columns and parked cars.
+    Garage,
 }
 
 /// One environment's world: its objects, ground scatterers and, in a tunnel, the ceiling's
@@ -246,6 +248,7 @@ pub fn world(env: Environment, rng: &mut impl Rng) -> World {
         }
         Environment::Tunnel => tunnel(rng),
         Environment::ParkingArea => parking_area(rng),
+        Environment::Garage => garage(rng),
     }
 }
 
@@ -346,6 +349,17 @@ pub fn tunnel(rng: &mut impl Rng) -> World {
         objects.push(("wall", shape, [0.0; 2], pts));
     }
     traffic(rng, (-1.5, 1.5), &mut objects);
+    let ceiling = ceiling(rng, (left, right), height);
+    World {
+        objects: numbered(objects),
+        ground: ground(rng, left.abs().max(right)),
+        ceiling: Some((height, ceiling)),
+    }
+}
+
+/// A ceiling `height` m over the road from `left` to `right` (m, across) and from 5 m behind
+/// the start to 90 m ahead: one weak diffuse scatterer per 1 m × 1 m, jittered.
+fn ceiling(rng: &mut impl Rng, (left, right): (f64, f64), height: f64) -> Vec<Scatterer> {
     let mut ceiling = Vec::new();
     let across = (right - left).floor() as i32;
     for i in 0..=across {
@@ -361,6 +375,68 @@ pub fn tunnel(rng: &mut impl Rng) -> World {
             });
         }
     }
+    ceiling
+}
+
+/// A covered car park (issue #21: an environment with a roof to train on, so that the tunnel
+/// can stay held out): a ceiling 2.8–4.2 m over the floor out to walls 14–20 m either side
+/// (one scatterer per m², as in the tunnel), columns 0.6 m across every 7.5–8.5 m on two
+/// lines either side (3.2–4 m and 8.8–9.6 m out; a scatterer every 0.5 m up), cars parked
+/// across between the lines (60 % of the 2.6 m bays taken), one or two cars in the lane.
+pub fn garage(rng: &mut impl Rng) -> World {
+    let height = rng.random_range(2.8..4.2);
+    let inner = rng.random_range(3.2..4.0);
+    let outer = inner + 5.6;
+    let (left, right) = (-rng.random_range(14.0..20.0), rng.random_range(14.0..20.0));
+    let mut objects = Vec::new();
+    for side in [-1.0, 1.0] {
+        for line in [inner, outer] {
+            let mut z = rng.random_range(0.0..8.0);
+            while z < 88.0 {
+                let x = side * line;
+                let shape = Shape::Cylinder {
+                    centre: [x, z],
+                    radius: 0.3,
+                    y_top: GROUND_Y - height,
+                    y_bottom: GROUND_Y,
+                };
+                let pts = (0..(2.0 * height) as usize)
+                    .map(|k| Scatterer {
+                        position: nalgebra::Vector3::new(
+                            x - side * 0.3,
+                            GROUND_Y - 0.25 - 0.5 * k as f64,
+                            z,
+                        ),
+                        rcs: rng.random_range(0.3..1.5),
+                        phase: rng.random_range(0.0..TAU),
+                    })
+                    .collect();
+                objects.push(("pole", shape, [0.0; 2], pts));
+                z += rng.random_range(7.5..8.5);
+            }
+        }
+        let mut z = rng.random_range(2.0..6.0);
+        while z < 85.0 {
+            if rng.random_bool(0.6) {
+                let shape = car_box(rng, [side * (inner + 2.8), z], PI / 2.0);
+                let pts = object::vehicle(rng, &shape);
+                objects.push(("vehicle_parked", shape, [0.0; 2], pts));
+            }
+            z += 2.6;
+        }
+        let x = if side < 0.0 { left } else { right };
+        let (a, b) = ([x, -5.0], [x, 90.0]);
+        let pts = surface(rng, (a, b), 0.5, 0.2..height - 0.2, 0.3..1.5);
+        let shape = Shape::Panel {
+            a,
+            b,
+            y_top: GROUND_Y - height,
+            y_bottom: GROUND_Y,
+        };
+        objects.push(("wall", shape, [0.0; 2], pts));
+    }
+    traffic(rng, (-1.5, 1.5), &mut objects);
+    let ceiling = ceiling(rng, (left, right), height);
     World {
         objects: numbered(objects),
         ground: ground(rng, left.abs().max(right)),
@@ -542,6 +618,42 @@ mod tests {
                 };
                 assert!(centre[0].abs() >= 3.5 + 2.1, "{centre:?}");
             }
+            assert_clear(&w);
+        }
+    }
+
+    #[test]
+    fn a_garage_is_roofed_over_columns_and_parked_cars() {
+        for seed in 0..8 {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+            let w = world(Environment::Garage, &mut rng);
+            let (height, roof) = w.ceiling.clone().expect("a garage has a ceiling");
+            assert!((2.8..4.2).contains(&height), "{height}");
+            // A scatterer per square metre between walls 28-40 m apart, over 95 m.
+            assert!(roof.len() > 28 * 95, "{}", roof.len());
+            let columns: Vec<_> = w.objects.iter().filter(|o| o.class == "pole").collect();
+            // Four lines of a column every 8.5 m or less over 80 m or more.
+            assert!(columns.len() >= 4 * 9, "{}", columns.len());
+            for o in &columns {
+                // From near the floor to under the ceiling.
+                let up: Vec<f64> = o
+                    .scatterers
+                    .iter()
+                    .map(|s| GROUND_Y - s.position.y)
+                    .collect();
+                assert!(up.iter().all(|&u| (0.2..height).contains(&u)), "{up:?}");
+                assert!(
+                    up.iter().any(|&u| u > height - 0.8),
+                    "{up:?} under {height}"
+                );
+            }
+            let parked = w
+                .objects
+                .iter()
+                .filter(|o| o.class == "vehicle_parked")
+                .count();
+            // Two rows of 32 bays, 60 % taken.
+            assert!((20..55).contains(&parked), "{parked}");
             assert_clear(&w);
         }
     }

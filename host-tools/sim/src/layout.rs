@@ -43,6 +43,10 @@ pub enum Preset {
     /// The drive preset's vehicle crossing an open parking area (issue #21): rows of parked
     /// cars either side of the lane, lamp posts, building fronts 18–30 m off, little traffic.
     ParkingArea,
+    /// The drive preset's vehicle through a covered car park (issue #21): a ceiling 2.8–4.2 m
+    /// over rows of columns and parked cars, walls 14–20 m off; trained on, so that the tunnel
+    /// can stay held out while the network still sees a roof.
+    Garage,
     /// A calibration capture (TI's procedure, Metamoran §V): a corner reflector on a thin
     /// mast 5 m away on boresight at the radar's height, over the ground and nothing else.
     Corner,
@@ -61,6 +65,7 @@ impl Preset {
             Preset::Drive => Some(Environment::Street),
             Preset::Tunnel => Some(Environment::Tunnel),
             Preset::ParkingArea => Some(Environment::ParkingArea),
+            Preset::Garage => Some(Environment::Garage),
             _ => None,
         }
     }
@@ -77,6 +82,7 @@ impl Preset {
             Preset::Drive => "drive",
             Preset::Tunnel => "tunnel",
             Preset::ParkingArea => "parking-area",
+            Preset::Garage => "garage",
             Preset::Corner => "corner",
         }
     }
@@ -289,6 +295,7 @@ fn interest(
             | Preset::Drive
             | Preset::Tunnel
             | Preset::ParkingArea
+            | Preset::Garage
             | Preset::Corner,
             _,
         ) => rng.random_range(3.0..60.0),

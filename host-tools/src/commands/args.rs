@@ -98,6 +98,9 @@ pub enum PresetArg {
     /// The drive preset's vehicle crossing an open parking area: rows of parked cars, lamp
     /// posts, building fronts far off (issue #21).
     ParkingArea,
+    /// The drive preset's vehicle through a covered car park: a low ceiling over columns and
+    /// parked cars (issue #21).
+    Garage,
     /// A calibration capture: a corner reflector at 5 m on boresight (for `calibrate`).
     Corner,
 }
@@ -116,6 +119,7 @@ impl PresetArg {
             PresetArg::Drive => Preset::Drive,
             PresetArg::Tunnel => Preset::Tunnel,
             PresetArg::ParkingArea => Preset::ParkingArea,
+            PresetArg::Garage => Preset::Garage,
             PresetArg::Corner => Preset::Corner,
             PresetArg::Site => return None,
         })

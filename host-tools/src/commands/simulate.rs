@@ -6,7 +6,7 @@ use std::path::PathBuf;
 /// Simulate scene bundles (bundle.md): FMCW radar samples, camera mask and monocular depth, truth.
 #[derive(clap::Args, Debug)]
 #[command(
-    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset drive --radar imaging --seed 3 --out drives   (the same street seen by the 4D imaging board)\n  metamoran simulate --preset tunnel --radar imaging --seed 1 --out drives   (also: parking-area)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)\n  metamoran simulate --preset crossing --renumber-instances --seed 2 --out scenes   (tracking: instance ids renumbered every frame)\n  metamoran simulate --preset site --seed 1 --out sites   (three poles, one site: site-1/site.toml and a bundle per pole)"
+    after_help = "Examples:\n  metamoran simulate --preset parking-lot --seed 1 --out scenes --count 60\n  metamoran simulate --preset moving --radar xwr18xx --seed 7 --out scenes\n  metamoran simulate --preset parking-lot --radar xwr18xx --hard --seed 9 --out hard\n  metamoran simulate --preset perimeter --count 1 --out scenes   (22 frames, the demo's scene)\n  metamoran simulate --preset drive --seed 3 --count 2 --out drives   (moving platform, elevation, lidar truth)\n  metamoran simulate --preset drive --radar imaging --seed 3 --out drives   (the same street seen by the 4D imaging board)\n  metamoran simulate --preset tunnel --radar imaging --seed 1 --out drives   (also: parking-area, garage)\n  metamoran simulate --preset corner --board 5 --seed 1 --out cal   (a calibration capture of board 5)\n  metamoran simulate --preset crossing --renumber-instances --seed 2 --out scenes   (tracking: instance ids renumbered every frame)\n  metamoran simulate --preset site --seed 1 --out sites   (three poles, one site: site-1/site.toml and a bundle per pole)"
 )]
 pub struct Args {
     /// Scene preset.
@@ -52,8 +52,8 @@ pub fn run(args: &Args) -> super::Result {
     };
     if args.radar == RadarArg::Imaging && preset.environment().is_none() {
         return Err(
-            "--radar imaging is the mapping presets' 4D board (--preset drive, tunnel or \
-             parking-area); the depth presets run on cascade, mmwcas or xwr18xx"
+            "--radar imaging is the mapping presets' 4D board (--preset drive, tunnel, \
+             parking-area or garage); the depth presets run on cascade, mmwcas or xwr18xx"
                 .into(),
         );
     }
