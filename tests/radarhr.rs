@@ -161,9 +161,13 @@ fn imaging_report(preset: Preset, seed: u64) -> report::MapReport {
 
 #[test]
 fn the_imaging_network_completes_a_tunnel_it_never_saw() {
-    // The imaging board's network was trained on streets and parking areas only
+    // The imaging board's network was trained on streets, parking areas and covered car parks
     // (scripts/train-radarhr, BOARD=imaging): the tunnel is the held-out environment.
-    let rep = imaging_report(Preset::Tunnel, 43);
+    // The street of the test below, for the comparison at the end, mapped alongside.
+    let (rep, street) = std::thread::scope(|s| {
+        let street = s.spawn(|| imaging_report(Preset::Drive, 44));
+        (imaging_report(Preset::Tunnel, 43), street.join().unwrap())
+    });
     let lidar = rep.lidar_pixels.unwrap().mae_m;
     eprintln!(
         "tunnel: MAE over every lidar pixel {lidar:?}, over both {:?}, density growth {:?} / {:?}",
@@ -182,15 +186,29 @@ fn the_imaging_network_completes_a_tunnel_it_never_saw() {
     );
     // The paper's "more than 50×" density over a single frame.
     assert!(rep.network_density_growth_factor.unwrap() > 50.0, "{rep:?}");
-    // Not asserted: against IP-Basic. In the tunnel, whose walls and ceiling fill the view at
-    // 3–5 m, IP-Basic's dilation is as good a completion on some scenes (README, issue #21).
+    // Better than IP-Basic's dilation, whose walls and ceiling fill the view at 3–5 m. The
+    // network trained without a roof (streets and parking areas only) was worse than IP-Basic
+    // here: 4.58 m against 4.05 m.
+    let ip_basic = lidar.ip_basic.unwrap();
+    assert!(
+        network < 0.7 * ip_basic,
+        "IP-Basic {ip_basic}, network {network}"
+    );
+    // Issue #21: the held-out environment within twice the error of a street it never saw,
+    // over every lidar pixel (the roofless network: 4.58 m against 1.07 m).
+    let street = street.lidar_pixels.unwrap().mae_m.network.unwrap();
+    assert!(
+        network <= 2.0 * street,
+        "tunnel {network} m, street {street} m"
+    );
 }
 
 #[test]
 fn the_imaging_network_places_an_unseen_street_within_a_decimetre() {
     // Issue #21's street goal for point accuracy: the median distance from the network's points
     // to the nearest lidar point at most 0.1 m. Seed 44 is in neither training nor validation
-    // (streets of seed 6000, parking areas of seed 6100). The network trained with the paper's loss alone was 0.3-0.4 m here.
+    // (streets of seed 6000, parking areas of seed 6100, car parks of seed 6200). The network
+    // trained with the paper's loss alone was 0.3-0.4 m here.
     let rep = imaging_report(Preset::Drive, 44);
     let acc = rep.point_accuracy_m.unwrap();
     let lidar = rep.lidar_pixels.unwrap().mae_m;
