@@ -104,12 +104,17 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
         net.complete(r)
             .map_err(|e| metamoran_map::MapError::Network(e.to_string()))
     };
-    let (mut network_mae, mut submap_mae) = (0.0, 0.0);
+    let (mut network_mae, mut submap_mae, mut accuracies) = (0.0, 0.0, Vec::new());
     for dir in &dirs {
         let (rep, _, images) = report::run(dir, &MOUNT, Some(&complete)).unwrap();
         let images = images.unwrap();
         let (mae, rmse) = (rep.mae_m.unwrap(), rep.rmse_m.unwrap());
-        eprintln!("{}: MAE {mae:?} RMSE {rmse:?}", dir.display());
+        let accuracy = rep.point_accuracy_m.unwrap().network.unwrap();
+        eprintln!(
+            "{}: MAE {mae:?} RMSE {rmse:?} point accuracy {accuracy}",
+            dir.display()
+        );
+        accuracies.push(accuracy);
         // Against IP-Basic, the paper's conventional completion, on every scene.
         assert!(mae.network.unwrap() < mae.ip_basic.unwrap(), "{mae:?}");
         assert!(rmse.network.unwrap() < rmse.ip_basic.unwrap(), "{rmse:?}");
@@ -138,6 +143,11 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
         network_mae / 3.0,
         submap_mae / 3.0
     );
+    // Point accuracy (median distance to the nearest lidar point) within a decimetre on the
+    // median scene: 0.07, 0.09 and 0.77 m here. The network trained with the paper's loss alone
+    // (before session 30's L1 term) was 0.46, 0.33 and 0.88 m.
+    accuracies.sort_by(f64::total_cmp);
+    assert!(accuracies[1] <= 0.1, "point accuracy {accuracies:?} m");
 }
 
 /// The imaging board's report of scene 0 of `preset` at `seed`, mapped with its shipped network
