@@ -279,8 +279,11 @@ fn surface(
         .collect()
 }
 
+/// An object before numbering: class, shape, velocity (m/s) and scatterers.
+type Placed = (&'static str, Shape, [f64; 2], Vec<Scatterer>);
+
 /// Objects numbered 1.. in order.
-fn numbered(objects: Vec<(&'static str, Shape, [f64; 2], Vec<Scatterer>)>) -> Vec<SceneObject> {
+fn numbered(objects: Vec<Placed>) -> Vec<SceneObject> {
     objects
         .into_iter()
         .enumerate()
@@ -338,16 +341,33 @@ pub fn tunnel(rng: &mut impl Rng) -> World {
     let height = rng.random_range(4.5..5.5);
     let mut objects = Vec::new();
     for x in [left, right] {
-        let (a, b) = ([x, -5.0], [x, 90.0]);
-        let pts = surface(rng, (a, b), 0.25, 0.2..height - 0.2, 0.3..1.5);
-        let shape = Shape::Panel {
-            a,
-            b,
-            y_top: GROUND_Y - height,
-            y_bottom: GROUND_Y,
-        };
-        objects.push(("wall", shape, [0.0; 2], pts));
+        objects.push(side_wall(rng, x, 0.25, height));
     }
+    roofed(rng, objects, (left, right), height)
+}
+
+/// A wall along the road at `x` m across, from the road to a ceiling `height` m up, with a
+/// scatterer every `spacing` m along it.
+fn side_wall(rng: &mut impl Rng, x: f64, spacing: f64, height: f64) -> Placed {
+    let (a, b) = ([x, -5.0], [x, 90.0]);
+    let pts = surface(rng, (a, b), spacing, 0.2..height - 0.2, 0.3..1.5);
+    let shape = Shape::Panel {
+        a,
+        b,
+        y_top: GROUND_Y - height,
+        y_bottom: GROUND_Y,
+    };
+    ("wall", shape, [0.0; 2], pts)
+}
+
+/// `objects` with traffic in the lane, under a ceiling `height` m up between the walls at
+/// `left` and `right` m across.
+fn roofed(
+    rng: &mut impl Rng,
+    mut objects: Vec<Placed>,
+    (left, right): (f64, f64),
+    height: f64,
+) -> World {
     traffic(rng, (-1.5, 1.5), &mut objects);
     let ceiling = ceiling(rng, (left, right), height);
     World {
@@ -425,23 +445,9 @@ pub fn garage(rng: &mut impl Rng) -> World {
             z += 2.6;
         }
         let x = if side < 0.0 { left } else { right };
-        let (a, b) = ([x, -5.0], [x, 90.0]);
-        let pts = surface(rng, (a, b), 0.5, 0.2..height - 0.2, 0.3..1.5);
-        let shape = Shape::Panel {
-            a,
-            b,
-            y_top: GROUND_Y - height,
-            y_bottom: GROUND_Y,
-        };
-        objects.push(("wall", shape, [0.0; 2], pts));
+        objects.push(side_wall(rng, x, 0.5, height));
     }
-    traffic(rng, (-1.5, 1.5), &mut objects);
-    let ceiling = ceiling(rng, (left, right), height);
-    World {
-        objects: numbered(objects),
-        ground: ground(rng, left.abs().max(right)),
-        ceiling: Some((height, ceiling)),
-    }
+    roofed(rng, objects, (left, right), height)
 }
 
 /// An open parking area: two rows of cars parked across either side of the lane (3.5–5 m and
