@@ -435,19 +435,25 @@ pub fn garage(rng: &mut impl Rng) -> World {
                 z += rng.random_range(7.5..8.5);
             }
         }
-        let mut z = rng.random_range(2.0..6.0);
-        while z < 85.0 {
-            if rng.random_bool(0.6) {
-                let shape = car_box(rng, [side * (inner + 2.8), z], PI / 2.0);
-                let pts = object::vehicle(rng, &shape);
-                objects.push(("vehicle_parked", shape, [0.0; 2], pts));
-            }
-            z += 2.6;
-        }
+        parked_row(rng, side * (inner + 2.8), &mut objects);
         let x = if side < 0.0 { left } else { right };
         objects.push(side_wall(rng, x, 0.5, height));
     }
     roofed(rng, objects, (left, right), height)
+}
+
+/// A row of 2.6 m bays from 2–6 m to 85 m ahead, 60 % taken by a car parked across with
+/// its centre `x` m across, pushed onto `objects`.
+fn parked_row(rng: &mut impl Rng, x: f64, objects: &mut Vec<Placed>) {
+    let mut z = rng.random_range(2.0..6.0);
+    while z < 85.0 {
+        if rng.random_bool(0.6) {
+            let shape = car_box(rng, [x, z], PI / 2.0);
+            let pts = object::vehicle(rng, &shape);
+            objects.push(("vehicle_parked", shape, [0.0; 2], pts));
+        }
+        z += 2.6;
+    }
 }
 
 /// An open parking area: two rows of cars parked across either side of the lane (3.5–5 m and
@@ -457,15 +463,7 @@ pub fn parking_area(rng: &mut impl Rng) -> World {
     let mut objects = Vec::new();
     for side in [-1.0, 1.0] {
         for row in [rng.random_range(3.5..5.0), rng.random_range(9.5..11.0)] {
-            let mut z = rng.random_range(2.0..6.0);
-            while z < 85.0 {
-                if rng.random_bool(0.6) {
-                    let shape = car_box(rng, [side * (row + 2.2), z], PI / 2.0);
-                    let pts = object::vehicle(rng, &shape);
-                    objects.push(("vehicle_parked", shape, [0.0; 2], pts));
-                }
-                z += 2.6;
-            }
+            parked_row(rng, side * (row + 2.2), &mut objects);
         }
         let mut z = rng.random_range(3.0..12.0);
         while z < 85.0 {
@@ -578,13 +576,24 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
 
+    /// Seed `seed`'s world of `env`, its ceiling height (m, checked to be in `heights`) and
+    /// the ceiling's scatterers.
+    fn roofed_world(
+        env: Environment,
+        seed: u64,
+        heights: std::ops::Range<f64>,
+    ) -> (World, f64, Vec<Scatterer>) {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+        let w = world(env, &mut rng);
+        let (height, roof) = w.ceiling.clone().expect("a roofed place has a ceiling");
+        assert!(heights.contains(&height), "{height}");
+        (w, height, roof)
+    }
+
     #[test]
     fn a_tunnel_is_walled_and_roofed_and_the_lane_stays_clear() {
         for seed in 0..8 {
-            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
-            let w = world(Environment::Tunnel, &mut rng);
-            let (height, roof) = w.ceiling.clone().expect("a tunnel has a ceiling");
-            assert!((4.5..5.5).contains(&height), "{height}");
+            let (w, height, roof) = roofed_world(Environment::Tunnel, seed, 4.5..5.5);
             // A scatterer per square metre of ceiling, on the ceiling.
             assert!(roof.len() > 7 * 95, "{}", roof.len());
             assert!(
@@ -631,10 +640,7 @@ mod tests {
     #[test]
     fn a_garage_is_roofed_over_columns_and_parked_cars() {
         for seed in 0..8 {
-            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
-            let w = world(Environment::Garage, &mut rng);
-            let (height, roof) = w.ceiling.clone().expect("a garage has a ceiling");
-            assert!((2.8..4.2).contains(&height), "{height}");
+            let (w, height, roof) = roofed_world(Environment::Garage, seed, 2.8..4.2);
             // A scatterer per square metre between walls 28-40 m apart, over 95 m.
             assert!(roof.len() > 28 * 95, "{}", roof.len());
             let columns: Vec<_> = w.objects.iter().filter(|o| o.class == "pole").collect();
