@@ -344,17 +344,40 @@ fn film(
     (shot, truth_objects)
 }
 
+/// A drive scene's world and its vehicle's plan, drawn first from the scene's generator.
+fn draw_drive(rng: &mut Pcg64Mcg, env: drive::Environment) -> (drive::World, drive::Drive) {
+    let world = drive::world(env, rng);
+    (world, drive::Drive::draw(rng))
+}
+
+/// The world and the vehicle's plan of scene `index` of run `seed` of a mapping preset (the
+/// `drive`, `tunnel`, `parking-area` and `garage` presets, whatever the board): what
+/// [`simulate_scene_with`] draws before it renders, for diagnostics that need the scatterers
+/// themselves (`examples/scatterers_in_view.rs`).
+///
+/// ```
+/// use metamoran_sim::drive::{Environment, FRAMES, FRAME_PERIOD_S};
+/// let (world, plan) = metamoran_sim::drive_world(Environment::Street, 6500, 0);
+/// assert!(world.ceiling.is_none());
+/// assert_eq!(plan.poses(FRAMES, FRAME_PERIOD_S).len(), usize::from(FRAMES));
+/// ```
+pub fn drive_world(env: drive::Environment, seed: u64, index: u64) -> (drive::World, drive::Drive) {
+    draw_drive(&mut Pcg64Mcg::seed_from_u64(scene_seed(seed, index)), env)
+}
+
 /// The drive preset: the street moved into the radar's frame at each frame's pose.
 fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> SimulatedScene {
     let (mut config, tx_elevation) = radar::drive_config(kind);
     config.frames = u32::from(drive::FRAMES);
     config.frame_period_s = drive::FRAME_PERIOD_S;
-    let drive::World {
-        objects: world,
-        ground,
-        ceiling,
-    } = drive::world(env, rng);
-    let plan = drive::Drive::draw(rng);
+    let (
+        drive::World {
+            objects: world,
+            ground,
+            ceiling,
+        },
+        plan,
+    ) = draw_drive(rng, env);
     let poses = plan.poses(drive::FRAMES, drive::FRAME_PERIOD_S);
     let camera = camera_config();
     let model = CameraModel::new(&camera);
