@@ -234,6 +234,47 @@ pub struct World {
     pub ceiling: Option<(f64, Vec<Scatterer>)>,
 }
 
+impl World {
+    /// The world at time `t` s in the radar frame of `pose`, moving relative to a radar with
+    /// world velocity `radar_v` m/s: its objects (movers moved first), then its surfaces (the
+    /// ground and any ceiling) as objects of their own, which hide nothing. What the signal
+    /// model renders a frame from: the objects alone are what the camera and the lidar see.
+    pub fn seen_from(
+        &self,
+        t: f64,
+        pose: &Pose,
+        radar_v: [f64; 2],
+    ) -> (Vec<SceneObject>, Vec<SceneObject>) {
+        let objects = super::motion::at(&self.objects, &[], t)
+            .iter()
+            .map(|o| in_radar_frame(o, pose, radar_v))
+            .collect();
+        // The ground moves like any static object: relative to the radar.
+        let ground = SceneObject {
+            id: 0,
+            class: "ground",
+            shape: Shape::Panel {
+                a: [0.0; 2],
+                b: [0.0; 2],
+                y_top: GROUND_Y,
+                y_bottom: GROUND_Y,
+            },
+            velocity: [0.0; 2],
+            scatterers: self.ground.clone(),
+        };
+        let mut surfaces = vec![in_radar_frame(&ground, pose, radar_v)];
+        if let Some((_, scatterers)) = &self.ceiling {
+            let ceiling = SceneObject {
+                class: "ceiling",
+                scatterers: scatterers.clone(),
+                ..ground
+            };
+            surfaces.push(in_radar_frame(&ceiling, pose, radar_v));
+        }
+        (objects, surfaces)
+    }
+}
+
 /// Draws `env`'s world. The street draws as it always has (same seeds, same scenes).
 pub fn world(env: Environment, rng: &mut impl Rng) -> World {
     match env {

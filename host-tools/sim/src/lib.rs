@@ -41,7 +41,6 @@ use radar::RadarKind;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
-use shape::Shape;
 use std::path::{Path, PathBuf};
 
 /// The simulated camera: 640 × 360, 65° horizontal field of view, 15 cm above the radar.
@@ -370,14 +369,7 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> 
     let (mut config, tx_elevation) = radar::drive_config(kind);
     config.frames = u32::from(drive::FRAMES);
     config.frame_period_s = drive::FRAME_PERIOD_S;
-    let (
-        drive::World {
-            objects: world,
-            ground,
-            ceiling,
-        },
-        plan,
-    ) = draw_drive(rng, env);
+    let (world, plan) = draw_drive(rng, env);
     let poses = plan.poses(drive::FRAMES, drive::FRAME_PERIOD_S);
     let camera = camera_config();
     let model = CameraModel::new(&camera);
@@ -390,35 +382,8 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> 
     let mut frames = Vec::new();
     for (f, (pose, radar_v)) in poses.iter().enumerate() {
         let t = f as f64 * drive::FRAME_PERIOD_S;
-        let moved = motion::at(&world, &[], t);
-        let objects: Vec<_> = moved
-            .iter()
-            .map(|o| drive::in_radar_frame(o, pose, *radar_v))
-            .collect();
-        // The ground moves like any static object: relative to the radar.
-        let ground_object = object::SceneObject {
-            id: 0,
-            class: "ground",
-            shape: Shape::Panel {
-                a: [0.0; 2],
-                b: [0.0; 2],
-                y_top: GROUND_Y,
-                y_bottom: GROUND_Y,
-            },
-            velocity: [0.0; 2],
-            scatterers: ground.clone(),
-        };
-        let ground_here = drive::in_radar_frame(&ground_object, pose, *radar_v);
-        let mut all = objects.clone();
-        all.push(ground_here);
-        if let Some((_, scatterers)) = &ceiling {
-            let ceiling_object = object::SceneObject {
-                class: "ceiling",
-                scatterers: scatterers.clone(),
-                ..ground_object.clone()
-            };
-            all.push(drive::in_radar_frame(&ceiling_object, pose, *radar_v));
-        }
+        let (objects, surfaces) = world.seen_from(t, pose, *radar_v);
+        let all = [objects.as_slice(), &surfaces].concat();
         let echoes = signal::echoes(&all, &[], &config, DRIVE_ELEVATION_BEAM_DEG);
         adc.extend(signal::synthesize(&config, &echoes, &elevation, None, rng));
         let (shot, truth_objects) = film(&objects, &model, &camera, Difficulty::Standard, rng);
@@ -426,7 +391,8 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> 
             let dir = nalgebra::Vector3::new(d[0], d[1], d[2]);
             let origin = nalgebra::Vector3::zeros();
             let ground = (d[1] > 1e-9).then(|| GROUND_Y / d[1]);
-            let roof = ceiling
+            let roof = world
+                .ceiling
                 .as_ref()
                 .filter(|_| d[1] < -1e-9)
                 .map(|(h, _)| (GROUND_Y - h) / d[1]);
@@ -451,7 +417,7 @@ fn drive_scene(rng: &mut Pcg64Mcg, kind: RadarKind, env: drive::Environment) -> 
         shots.push(shot);
     }
     SimulatedScene {
-        objects: world,
+        objects: world.objects,
         radar: config,
         camera,
         adc,
