@@ -1,5 +1,7 @@
-//! The point cloud of one frame: CFAR over the range–Doppler map, local maxima only, then the
-//! directions of each detected cell from its channel values.
+//! The point cloud of one frame: CFAR over the range–Doppler map, then the directions of each
+//! detected cell from its channel values. Which detections are points is [`Peaks`]'s choice:
+//! the map's local maxima (the module's way), or every cell, each direction kept where its own
+//! beam peaks in range and Doppler (a peak of the 4D range–Doppler–direction cube).
 //!
 //! Range is interpolated between bins (parabola through the dB values of the map). Radial
 //! velocity is found per direction: the base row steered to the direction's azimuth is
@@ -26,6 +28,36 @@ use libm::{cosf, fabsf, log10f, sinf};
 /// measurement is unfolded towards the prior, m/s (Doppler noise could fold it already).
 pub const FOLD_MARGIN_MPS: f32 = 0.5;
 
+/// Which CFAR detections become points.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Peaks {
+    /// Only local maxima of the range–Doppler map (summed over channels), each cell's
+    /// directions from its channel values: one [`DopplerSpectra::load`] per range bin with a
+    /// peak. A weaker reflector in another direction one range or Doppler bin from a stronger
+    /// one is not a maximum of the map and is lost; from a moving platform, where every
+    /// azimuth of a static street has its own Doppler and walls fill range bin after range bin,
+    /// that is most of them.
+    #[default]
+    RangeDoppler,
+    /// Every detected cell, each of its directions kept only where that direction's own beam
+    /// power peaks over the neighbouring range bins and Doppler bins (the same direction
+    /// steered in each): a reflector is one point, at its own cell, however strong its
+    /// neighbours in other directions are. Three loads per range bin with a detection (the bin
+    /// and its two neighbours, so `spectra` holds three bins) and a few more beams per
+    /// direction.
+    Direction,
+}
+
+impl Peaks {
+    /// Range bins of Doppler spectra [`frame_points`] needs at once.
+    pub const fn bins_held(self) -> usize {
+        match self {
+            Self::RangeDoppler => 1,
+            Self::Direction => 3,
+        }
+    }
+}
+
 /// How a frame becomes points.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CloudOptions {
@@ -47,6 +79,8 @@ pub struct CloudOptions {
     /// the unfolded Doppler's TDM phase before its azimuth and elevation are found; elsewhere
     /// it stands as measured. `None`: as measured, within ±[`RadarConfig::max_velocity`].
     pub velocity_prior: Option<[f32; 2]>,
+    /// Which detections become points.
+    pub peaks: Peaks,
 }
 
 /// One point of the cloud.
@@ -175,11 +209,13 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> DopplerSpectra for CubeSpectra<'_, 
 
 /// Calls `emit` for every point of a frame. `map` is its range–Doppler map (`bins × nd`, from
 /// [`crate::doppler::range_doppler_map`]), `source` gives the Doppler spectra that map was
-/// formed from, one range bin at a time, into `spectra` (`channels × nd` values). Only
+/// formed from, one range bin at a time, into `spectra` (`channels × nd` values for each of
+/// [`Peaks::bins_held`] bins of `options.peaks`). Only
 /// detections at range bins in `bins_in` become points (`0..usize::MAX` for all): parts of the
 /// bins give the same points in the same order, so the host can split a frame among threads and
-/// concatenate. Returns the number of points. O(cells · window) for CFAR plus a
-/// [`DopplerSpectra::load`] per range bin with a detection and O(channels) per direction.
+/// concatenate. Returns the number of points. O(cells · window) for CFAR plus
+/// [`Peaks::bins_held`] [`DopplerSpectra::load`]s per range bin with a detection and
+/// O(channels) per direction.
 ///
 /// # Errors
 /// [`PointsError`] on size mismatches.
@@ -195,14 +231,16 @@ pub fn frame_points(
     mut emit: impl FnMut(RadarPoint),
 ) -> Result<usize, PointsError> {
     let (channels, rx) = (geom.channels(), config.rx_count());
+    let held = options.peaks.bins_held();
     if channels == 0
-        || !spectra.len().is_multiple_of(channels)
+        || !spectra.len().is_multiple_of(channels * held)
         || source.channels() != channels
         || channels != config.slots() * rx
     {
         return Err(PointsError::Buffer("spectra"));
     }
-    let (nr, nd) = (config.range_fft_len(), spectra.len() / channels);
+    let (nr, nd) = (config.range_fft_len(), spectra.len() / (channels * held));
+    let block = channels * nd;
     let bins = nr;
     if nd == 0 || map.len() != bins * nd {
         return Err(PointsError::Buffer("range-Doppler map"));
@@ -221,12 +259,14 @@ pub fn frame_points(
                 return;
             }
             let (b, d) = (det.index / nd, det.index % nd);
-            // Local maxima of the map only (Doppler wraps, range truncates).
             let v = det.value;
             if v < floor {
                 return;
             }
-            if !is_map_peak(map, (bins, nd), (b, d)) {
+            // Local maxima of the map only (Doppler wraps, range truncates), or every cell with
+            // each direction's own peak tested below.
+            let by_direction = options.peaks == Peaks::Direction;
+            if !by_direction && !is_map_peak(map, (bins, nd), (b, d)) {
                 return;
             }
             let range_off = if b > 0 && b + 1 < bins {
@@ -239,9 +279,17 @@ pub fn frame_points(
                 return;
             }
             if loaded != b {
-                if let Err(e) = source.load(b, spectra) {
-                    failed = Some(e);
-                    return;
+                // This bin first, then (by direction) the bins below and above it.
+                let (here, beside) = spectra.split_at_mut(block);
+                let (below, above) = beside.split_at_mut(block * (held - 1) / 2);
+                let loads = [Some((b, here)), b.checked_sub(1).zip(Some(below)), {
+                    Some(b + 1).filter(|&n| n < bins).zip(Some(above))
+                }];
+                for (bin, out) in loads.into_iter().take(held).flatten() {
+                    if let Err(e) = source.load(bin, out) {
+                        failed = Some(e);
+                        return;
+                    }
                 }
                 loaded = b;
             }
@@ -270,6 +318,7 @@ pub fn frame_points(
                 let steering = BaseSteering::new(geom, sinf(dir.azimuth));
                 let (k, off) = doppler_peak(|k| power(k, alias, &steering), d + nd);
                 let k = k % nd;
+                let own = k == d;
                 let signed = if k >= nd / 2 {
                     k as f32 - nd as f32
                 } else {
@@ -286,7 +335,36 @@ pub fn frame_points(
                         libm::roundf((static_vr - folded) / span) as i32
                     }
                 });
-                (folded, wanted)
+                (folded, wanted, own)
+            };
+            // By direction: its range where its own beam at Doppler bin `d` peaks over the
+            // bins below and above (interpolated as the map's range is); `None` where a
+            // neighbour is stronger, or its Doppler peak is another bin's (`own`): that
+            // direction's point is formed there.
+            let own_range = |dir: &Direction, alias: i32, own: bool| -> Option<f32> {
+                if !by_direction {
+                    return Some(range);
+                }
+                if !own {
+                    return None;
+                }
+                let steering = BaseSteering::new(geom, sinf(dir.azimuth));
+                let turns = slot_phasors((nd, slots), (d, alias));
+                let beam = |at: usize| {
+                    steering
+                        .power_db(|ch| rotate(spectra[at * block + ch * nd + d], turns[ch / rx]))
+                };
+                let here = beam(0);
+                let below = (b > 0).then(|| beam(1));
+                let above = (b + 1 < bins).then(|| beam(2));
+                if below.is_some_and(|p| p > here) || above.is_some_and(|p| p > here) {
+                    return None;
+                }
+                let off = match (below, above) {
+                    (Some(l), Some(r)) => quadratic_offset(l, here, r),
+                    _ => 0.0,
+                };
+                Some(config.bin_to_range(b as f32 + off, nr))
             };
             cell_at(d, 0, &mut values[..channels]);
             // First as measured; a direction whose prior asks for another alias is found again
@@ -300,10 +378,12 @@ pub fn frame_points(
                 geom,
                 options.direction_floor_db,
                 |dir| {
-                    let (folded, wanted) = measure(&dir, 0);
+                    let (folded, wanted, own) = measure(&dir, 0);
                     if wanted == 0 {
-                        emit(RadarPoint::new(range, folded, dir));
-                        count += 1;
+                        if let Some(range) = own_range(&dir, 0, own) {
+                            emit(RadarPoint::new(range, folded, dir));
+                            count += 1;
+                        }
                     } else if !others.contains(&wanted) {
                         let _ = others.push(wanted);
                     }
@@ -316,8 +396,10 @@ pub fn frame_points(
                     geom,
                     options.direction_floor_db,
                     |dir| {
-                        let (folded, wanted) = measure(&dir, alias);
-                        if wanted == alias {
+                        let (folded, wanted, own) = measure(&dir, alias);
+                        if wanted == alias
+                            && let Some(range) = own_range(&dir, alias, own)
+                        {
                             emit(RadarPoint::new(range, folded + alias as f32 * span, dir));
                             count += 1;
                         }

@@ -3,13 +3,14 @@
 use crate::MapError;
 use metamoran_bundle::Bundle;
 use metamoran_dsp::detect::{Boundary, Cfar, Cfar2d, CfarKind};
-use metamoran_dsp::points::{ArrayGeometry, CloudOptions, RadarPoint};
+use metamoran_dsp::points::{ArrayGeometry, CloudOptions, Peaks, RadarPoint};
 use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 
 /// The detector settings for mapping: CA-CFAR 9.5 dB over magnitude (×3), 2 guard and 8
 /// training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks within
-/// 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell.
+/// 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell; points at the
+/// map's local maxima ([`Peaks::RangeDoppler`], what the shipped networks were trained on).
 pub fn default_options() -> CloudOptions {
     let axis = |guard, train, boundary| Cfar {
         guard,
@@ -27,6 +28,7 @@ pub fn default_options() -> CloudOptions {
         min_range_m: 1.5,
         dynamic_range_db: 80.0,
         velocity_prior: None,
+        peaks: Peaks::RangeDoppler,
     }
 }
 

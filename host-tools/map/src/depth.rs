@@ -7,6 +7,7 @@ use super::cylinder::{DepthImage, Visibility};
 use super::odometry::Odometry;
 use super::submap::{Keep, accumulate_keeping};
 use crate::MapError;
+use metamoran_dsp::points::Peaks;
 use std::path::Path;
 
 /// A network that completes a submap's depth image: row-major ranges (m, 0 = empty) in, the
@@ -21,6 +22,9 @@ pub struct SubmapOptions {
     pub keep: Keep,
     /// Whether the frame's and the submap's images are cut to what is visible, and how.
     pub visibility: Option<Visibility>,
+    /// Which detections become the frames' points, for odometry and submaps alike
+    /// ([`crate::report::run_with`]).
+    pub peaks: Peaks,
 }
 
 /// One frame's depth images.

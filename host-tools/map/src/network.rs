@@ -45,6 +45,7 @@ impl Board {
             Self::Imaging => SubmapOptions {
                 keep: IMAGING_KEEP,
                 visibility: Some(Visibility::IMAGING_BEAM),
+                ..SubmapOptions::default()
             },
         }
     }

@@ -8,7 +8,7 @@ use crate::MapError;
 use metamoran_bundle::pose::Pose;
 use metamoran_bundle::{Bundle, OpenOptions};
 use metamoran_dsp::ego::{DopplerDetection, Mount, Ransac, UnfoldGrid, estimate, unfold_search};
-use metamoran_dsp::points::RadarPoint;
+use metamoran_dsp::points::{CloudOptions, RadarPoint};
 use serde::Serialize;
 use std::path::Path;
 
@@ -58,15 +58,24 @@ fn detections(points: &[RadarPoint]) -> Vec<DopplerDetection> {
         .collect()
 }
 
-/// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`.
-/// Radial velocities are unfolded ([`metamoran_dsp::ego::unfold`]) where the board's
-/// unambiguous span is less than the static world's speed past it.
+/// Runs Doppler odometry over every frame of the bundle in `dir`, for a radar on `mount`, with
+/// the mapping's detector ([`default_options`]). Radial velocities are unfolded
+/// ([`metamoran_dsp::ego::unfold`]) where the board's unambiguous span is less than the static
+/// world's speed past it.
 ///
 /// # Errors
 /// [`MapError`] naming the file and field of a bad bundle.
 pub fn run(dir: &Path, mount: &Mount) -> Result<Odometry, MapError> {
+    run_with(dir, mount, default_options())
+}
+
+/// [`run`] with the detector of `options` (its velocity prior is each frame's own).
+///
+/// # Errors
+/// [`MapError`] naming the file and field of a bad bundle.
+pub fn run_with(dir: &Path, mount: &Mount, options: CloudOptions) -> Result<Odometry, MapError> {
     let mut bundle = Bundle::open(dir, OpenOptions::default())?;
-    let mut clouds = Clouds::new(&bundle, default_options())?;
+    let mut clouds = Clouds::new(&bundle, options)?;
     let truth = bundle.truth.clone();
     let period = bundle.scene.radar.frame_period_s;
     let mut frames = Vec::new();

@@ -5,8 +5,9 @@
 //! the 4D imaging one (12 TX × 16 RX, nine elevation rows, radial velocities that fold).
 
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
+use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::fixed::CQ15;
-use metamoran_dsp::points::ArrayGeometry;
+use metamoran_dsp::points::{ArrayGeometry, Peaks, RadarPoint};
 use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 use metamoran_sim::radar::{RadarKind, drive_config};
@@ -26,7 +27,9 @@ fn point_reflectors_come_back_where_they_are() {
         (31.1, 5.0, -6.0, 2.6),
         (8.4, 48.0, 3.0, -1.2),
     ];
-    check(RadarKind::Xwr18xx, &targets, None, (0.5, 1.5));
+    for peaks in [Peaks::RangeDoppler, Peaks::Direction] {
+        check(RadarKind::Xwr18xx, &targets, None, (0.5, 1.5), peaks);
+    }
 }
 
 #[test]
@@ -49,100 +52,70 @@ fn the_imaging_board_unfolds_a_street_and_resolves_its_elevations() {
         (r, az, el, -v * a.cos() * e.cos())
     })
     .collect();
-    check(
-        RadarKind::Imaging,
-        &targets,
-        Some([0.0, v as f32]),
-        (0.5, 1.0),
-    );
+    for peaks in [Peaks::RangeDoppler, Peaks::Direction] {
+        check(
+            RadarKind::Imaging,
+            &targets,
+            Some([0.0, v as f32]),
+            (0.5, 1.0),
+            peaks,
+        );
+    }
+}
+
+#[test]
+fn a_weak_reflector_beside_a_strong_one_in_range_is_its_own_peak_by_direction() {
+    // Two static reflectors on the imaging board, each at a range bin's centre: a strong one at
+    // −20° and, one bin farther, one 8 dB weaker at +25°. The strong one's range main lobe
+    // (−6 dB a bin away) makes the weak one's cell no maximum of the range–Doppler map, so the
+    // map's peaks lose it; by direction its own beam peaks there, and each is one point.
+    let (config, _) = drive_config(RadarKind::Imaging);
+    let bin = f64::from(config.range_bin_size(config.range_fft_len()));
+    let strong = (86.0 * bin, -20.0, 0.0, 0.0);
+    let weak = (87.0 * bin, 25.0, 0.0, 0.0);
+    let targets = [(strong, 3000.0), (weak, 3000.0 * 10f64.powf(-8.0 / 20.0))];
+    let near = |points: &[RadarPoint], (r, az, _, _): Target| -> Vec<RadarPoint> {
+        points
+            .iter()
+            .filter(|p| {
+                (f64::from(p.range_m) - r).abs() < 2.0 * bin
+                    && (f64::from(p.azimuth).to_degrees() - az).abs() < 3.0
+            })
+            .copied()
+            .collect()
+    };
+    let (_, by_map) = cloud(RadarKind::Imaging, &targets, None, Peaks::RangeDoppler);
+    assert_eq!(near(&by_map, strong).len(), 1, "{by_map:?}");
+    assert!(near(&by_map, weak).is_empty(), "{by_map:?}");
+    let (_, by_direction) = cloud(RadarKind::Imaging, &targets, None, Peaks::Direction);
+    for (r, az, _, _) in [strong, weak] {
+        let found = near(&by_direction, (r, az, 0.0, 0.0));
+        assert_eq!(found.len(), 1, "{r} m, {az}°: {by_direction:?}");
+        let p = found[0];
+        assert!((f64::from(p.range_m) - r).abs() < bin / 4.0, "{p:?}");
+        assert!(
+            (f64::from(p.azimuth).to_degrees() - az).abs() < 0.5,
+            "{p:?}"
+        );
+    }
 }
 
 /// Synthesizes `targets` on `kind`'s drive board, forms the cloud (unfolded towards `prior`)
 /// and checks each target's strongest point within two range bins against it, to `tolerance`
 /// (azimuth, elevation) degrees.
-fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance: (f64, f64)) {
-    let (mut config, tx_elevation) = drive_config(kind);
-    config.frames = 1;
-    let elevation: Vec<i16> = (0..config.channels())
-        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
-        .collect();
-    let echoes: Vec<Echo> = targets
-        .iter()
-        .map(|&(r, az, el, v)| Echo {
-            range: r,
-            sin_az: f64::sin(az * std::f64::consts::PI / 180.0),
-            sin_el: f64::sin(el * std::f64::consts::PI / 180.0),
-            velocity: v,
-            amplitude: 3000.0,
-            phase: 0.3,
-        })
-        .collect();
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
-    let bytes = synthesize(&config, &echoes, &elevation, None, &mut rng);
-    let mut samples = vec![CQ15::default(); config.samples_per_frame()];
-    deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut samples).unwrap();
-    let mut proc = FrameProcessor::new(
-        &config,
-        FrameOptions {
-            range_window: WindowKind::Hann,
-            doppler_window: WindowKind::Hann,
-            remove_static: false,
-        },
-    )
-    .unwrap()
-    .keeping_doppler_spectra();
-    let spectra = proc.process(&samples).unwrap();
-    let geometry = ArrayGeometry::new(&config, &tx_elevation, &[]).unwrap();
-    let points = proc
-        .points(
-            &spectra,
-            &geometry,
-            &metamoran_dsp::points::CloudOptions {
-                velocity_prior: prior,
-                ..metamoran_map::cloud::default_options()
-            },
-        )
-        .unwrap();
-    // The processor splits the map and the cloud between two threads, and the cloud reads the
-    // Doppler spectra the map's pass kept: both are the one-thread `dsp` results, which form
-    // each detected bin's spectra again from the cube, bit for bit.
-    let nd = spectra.doppler_len;
-    let mut scratch = vec![CQ15::default(); nd];
-    let mut map = vec![0f32; spectra.range_bins * nd];
-    let doppler = proc.doppler_options(false);
-    metamoran_dsp::doppler::range_doppler_map(proc.cube(), &doppler, &mut scratch, &mut map)
-        .unwrap();
-    assert!(
-        map.iter()
-            .zip(&spectra.range_doppler)
-            .all(|(a, b)| a.to_bits() == b.to_bits()),
-        "range-Doppler map differs"
-    );
-    let mut whole = Vec::new();
-    let mut values = vec![metamoran_dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
-    metamoran_dsp::points::frame_points(
-        &mut metamoran_dsp::points::CubeSpectra {
-            cube: proc.cube(),
-            doppler,
-            scratch: &mut scratch,
-        },
-        &config,
-        &geometry,
-        &map,
-        &metamoran_dsp::points::CloudOptions {
-            velocity_prior: prior,
-            ..metamoran_map::cloud::default_options()
-        },
-        0..usize::MAX,
-        &mut values,
-        |p| whole.push(p),
-    )
-    .unwrap();
-    assert_eq!(points, whole);
+fn check(
+    kind: RadarKind,
+    targets: &[Target],
+    prior: Option<[f32; 2]>,
+    tolerance: (f64, f64),
+    peaks: Peaks,
+) {
+    let echoes: Vec<(Target, f64)> = targets.iter().map(|&t| (t, 3000.0)).collect();
+    let (config, points) = cloud(kind, &echoes, prior, peaks);
     // With points in both halves of the range bins, both threads had work.
-    let half = config.bin_to_range(spectra.range_bins as f32 / 2.0, spectra.range_bins);
+    let half = config.bin_to_range(config.range_fft_len() as f32 / 2.0, config.range_fft_len());
     assert!(
-        whole.iter().any(|p| p.range_m < half) && whole.iter().any(|p| p.range_m > half),
+        points.iter().any(|p| p.range_m < half) && points.iter().any(|p| p.range_m > half),
         "all points on one side of {half} m"
     );
     let bin = config.range_bin_size(config.range_fft_len()) as f64;
@@ -185,4 +158,98 @@ fn check(kind: RadarKind, targets: &[Target], prior: Option<[f32; 2]>, tolerance
             assert!((f64::from(*g) - w).abs() < bin / 4.0 + 0.01, "{p:?}");
         }
     }
+}
+
+/// Synthesizes `targets` (each with its amplitude, LSB) on `kind`'s drive board and forms the
+/// cloud unfolded towards `prior` with `peaks`, checking that the processor's two threads give
+/// the one-thread `dsp` cloud bit for bit.
+fn cloud(
+    kind: RadarKind,
+    targets: &[(Target, f64)],
+    prior: Option<[f32; 2]>,
+    peaks: Peaks,
+) -> (RadarConfig, Vec<RadarPoint>) {
+    let (mut config, tx_elevation) = drive_config(kind);
+    config.frames = 1;
+    let elevation: Vec<i16> = (0..config.channels())
+        .map(|ch| tx_elevation[config.tx_order[ch / config.rx_count()] as usize])
+        .collect();
+    let echoes: Vec<Echo> = targets
+        .iter()
+        .map(|&((r, az, el, v), amplitude)| Echo {
+            range: r,
+            sin_az: f64::sin(az * std::f64::consts::PI / 180.0),
+            sin_el: f64::sin(el * std::f64::consts::PI / 180.0),
+            velocity: v,
+            amplitude,
+            phase: 0.3,
+        })
+        .collect();
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
+    let bytes = synthesize(&config, &echoes, &elevation, None, &mut rng);
+    let mut samples = vec![CQ15::default(); config.samples_per_frame()];
+    deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut samples).unwrap();
+    let mut proc = FrameProcessor::new(
+        &config,
+        FrameOptions {
+            range_window: WindowKind::Hann,
+            doppler_window: WindowKind::Hann,
+            remove_static: false,
+        },
+    )
+    .unwrap()
+    .keeping_doppler_spectra();
+    let spectra = proc.process(&samples).unwrap();
+    let geometry = ArrayGeometry::new(&config, &tx_elevation, &[]).unwrap();
+    let points = proc
+        .points(
+            &spectra,
+            &geometry,
+            &metamoran_dsp::points::CloudOptions {
+                velocity_prior: prior,
+                peaks,
+                ..metamoran_map::cloud::default_options()
+            },
+        )
+        .unwrap();
+    // The processor splits the map and the cloud between two threads, and the cloud reads the
+    // Doppler spectra the map's pass kept: both are the one-thread `dsp` results, which form
+    // each detected bin's spectra again from the cube, bit for bit.
+    let nd = spectra.doppler_len;
+    let mut scratch = vec![CQ15::default(); nd];
+    let mut map = vec![0f32; spectra.range_bins * nd];
+    let doppler = proc.doppler_options(false);
+    metamoran_dsp::doppler::range_doppler_map(proc.cube(), &doppler, &mut scratch, &mut map)
+        .unwrap();
+    assert!(
+        map.iter()
+            .zip(&spectra.range_doppler)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "range-Doppler map differs"
+    );
+    let mut whole = Vec::new();
+    let held = peaks.bins_held();
+    let mut values =
+        vec![metamoran_dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * nd * held];
+    metamoran_dsp::points::frame_points(
+        &mut metamoran_dsp::points::CubeSpectra {
+            cube: proc.cube(),
+            doppler,
+            scratch: &mut scratch,
+        },
+        &config,
+        &geometry,
+        &map,
+        &metamoran_dsp::points::CloudOptions {
+            velocity_prior: prior,
+            peaks,
+            ..metamoran_map::cloud::default_options()
+        },
+        0..usize::MAX,
+        &mut values,
+        |p| whole.push(p),
+    )
+    .unwrap();
+    assert_eq!(points, whole);
+    (config, whole)
 }

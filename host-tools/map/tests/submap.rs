@@ -30,6 +30,7 @@ fn keeping_what_the_frame_sees_again_makes_the_submap_more_accurate() {
         let options = SubmapOptions {
             keep,
             visibility: Some(Visibility::IMAGING_BEAM),
+            ..SubmapOptions::default()
         };
         let images = last_with(&bundles[0], &o, None, &options).unwrap().unwrap();
         let growth = density_growth(&images.frame, &images.submap).unwrap();

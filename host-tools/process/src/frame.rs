@@ -384,7 +384,8 @@ impl FrameProcessor {
         let doppler = self.doppler_options(self.options.remove_static);
         let (cube, config, kept) = (&self.cube, &self.config, self.kept.as_ref());
         let part = |bins: std::ops::Range<usize>, out: &mut Vec<_>| {
-            let mut values = vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * nd];
+            let held = options.peaks.bins_held();
+            let mut values = vec![fft::Complex32::new(0.0, 0.0); geometry.channels() * nd * held];
             let mut scratch = vec![CQ15::default(); nd];
             let (mut from_kept, mut from_cube);
             let source: &mut dyn metamoran_dsp::points::DopplerSpectra = match kept {

@@ -1,6 +1,7 @@
 //! `metamoran map`: the dense radar map of a moving-platform bundle and its figures.
 
 use super::odometry::figure;
+use metamoran_dsp::points::Peaks;
 use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::report::MapReport;
 use metamoran_map::submap::Keep;
@@ -49,6 +50,12 @@ pub struct Args {
     /// network was trained on.
     #[arg(long, value_enum, default_value_t = KeepArg::Auto)]
     keep: KeepArg,
+    /// Which detections become points: `map`, the range–Doppler map's local maxima (what the
+    /// shipped networks were trained on), or `direction`, every detected cell with each
+    /// direction kept where its own beam peaks in range and Doppler (weaker reflectors beside
+    /// stronger ones in other directions are found too: denser frames, see the README).
+    #[arg(long, value_enum, default_value_t = PeaksArg::Map)]
+    peaks: PeaksArg,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
@@ -87,6 +94,24 @@ impl KeepArg {
     }
 }
 
+/// `map --peaks`: which detections become points.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PeaksArg {
+    /// Local maxima of the range–Doppler map.
+    Map,
+    /// Each direction's own peak in range and Doppler.
+    Direction,
+}
+
+impl From<PeaksArg> for Peaks {
+    fn from(p: PeaksArg) -> Self {
+        match p {
+            PeaksArg::Map => Self::RangeDoppler,
+            PeaksArg::Direction => Self::Direction,
+        }
+    }
+}
+
 /// Runs `metamoran map`.
 ///
 /// # Errors
@@ -105,6 +130,7 @@ pub fn run(args: &Args) -> super::Result {
             Cut::Off => None,
         },
         keep: args.keep.rule(auto.keep),
+        peaks: args.peaks.into(),
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
