@@ -7,6 +7,7 @@ use crate::cylinder::Visibility;
 use crate::depth::SubmapOptions;
 use crate::submap::Keep;
 use metamoran_bundle::{Bundle, OpenOptions};
+use metamoran_dsp::points::Peaks;
 use std::path::Path;
 
 /// The kind of radar board a bundle was recorded with, as far as the mapping cares: it picks the
@@ -37,19 +38,22 @@ impl Board {
     }
 
     /// The submaps this board's shipped network was trained on: every point and no cut on the
-    /// small board; on the imaging board, cut to what the imaging beam sees and keeping
-    /// [`IMAGING_KEEP`] of the earlier points.
+    /// small board; on the imaging board, cut to what the imaging beam sees, keeping
+    /// [`IMAGING_KEEP`] of the earlier points, with points at [`IMAGING_PEAKS`].
     pub fn submap_options(self) -> SubmapOptions {
         match self {
             Self::Small => SubmapOptions::default(),
             Self::Imaging => SubmapOptions {
                 keep: IMAGING_KEEP,
                 visibility: Some(Visibility::IMAGING_BEAM),
-                ..SubmapOptions::default()
+                peaks: IMAGING_PEAKS,
             },
         }
     }
 }
+
+/// Which detections become the imaging board's points: the range–Doppler map's local maxima.
+pub const IMAGING_PEAKS: Peaks = Peaks::RangeDoppler;
 
 /// Which earlier points the imaging board's submaps keep: those the frame sees again (issue
 /// #21, part 2; README "Submaps that keep what the frame sees again").

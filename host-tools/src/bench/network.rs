@@ -3,6 +3,7 @@
 //! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal, on
 //! either board's drive scenes.
 
+use metamoran_dsp::points::{CloudOptions, Peaks};
 use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::submap::Keep;
 use metamoran_map::{depth, odometry};
@@ -24,6 +25,9 @@ pub struct NetworkReport {
     pub submaps: usize,
     /// Which earlier points the submaps kept: `all` or `seen again`.
     pub keep: &'static str,
+    /// Which detections became points: `map` (the range–Doppler map's local maxima) or
+    /// `direction` (each direction's own peak).
+    pub peaks: &'static str,
     /// Network, ms per 320 × 80 image.
     pub network_ms: f64,
     /// IP-Basic (the baseline), ms per image.
@@ -50,28 +54,27 @@ fn per_run<E: Into<crate::Error>>(
     Ok(t.elapsed().as_secs_f64() * 1e3 / f64::from(REPEATS))
 }
 
-/// Runs on [`SCENES`] simulated drive scenes of `board` with the network shipped for it (the
-/// imaging board's submaps cut to what is visible, as `map` does by default), the submaps
-/// keeping the earlier points `keep` says.
+/// Runs on [`SCENES`] simulated drive scenes of `board` with the network shipped for it, the
+/// points and submaps made as `options` say (`map` uses [`Board::submap_options`]).
 ///
 /// # Errors
 /// The network cannot be loaded (e.g. a build without the `onnx` feature), or a scene fails.
-pub fn run(board: Board, keep: Keep) -> Result<NetworkReport, crate::Error> {
+pub fn run(board: Board, options: depth::SubmapOptions) -> Result<NetworkReport, crate::Error> {
     let network = CompletionNetwork::load(None, board)?;
     let (kind, name) = match board {
         Board::Small => (RadarKind::Xwr18xx, "small"),
         Board::Imaging => (RadarKind::Imaging, "imaging"),
-    };
-    let options = depth::SubmapOptions {
-        keep,
-        ..board.submap_options()
     };
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let bundles = simulate(Preset::Drive, kind, 77, SCENES, dir.path(), &|| ())?;
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
     for b in &bundles {
         let t = Instant::now();
-        let o = odometry::run(b, &MOUNT)?;
+        let cloud = CloudOptions {
+            peaks: options.peaks,
+            ..metamoran_map::cloud::default_options()
+        };
+        let o = odometry::run_with(b, &MOUNT, cloud)?;
         let n = o.tracked.len();
         let submaps: Vec<_> = (0..n)
             .map(|k| depth::submap_with(&o, k, &options).1)
@@ -91,9 +94,13 @@ pub fn run(board: Board, keep: Keep) -> Result<NetworkReport, crate::Error> {
     Ok(NetworkReport {
         board: name,
         submaps: bundles.len(),
-        keep: match keep {
+        keep: match options.keep {
             Keep::All => "all",
             Keep::SeenAgain { .. } => "seen again",
+        },
+        peaks: match options.peaks {
+            Peaks::RangeDoppler => "map",
+            Peaks::Direction => "direction",
         },
         network_ms,
         ip_basic_ms,
@@ -109,8 +116,8 @@ impl std::fmt::Display for NetworkReport {
         writeln!(
             f,
             "Depth completion of a 320 × 80 drive submap, {} board ({} submaps, {} runs each; \
-             earlier points kept: {})",
-            self.board, self.submaps, REPEATS, self.keep
+             earlier points kept: {}; peaks: {})",
+            self.board, self.submaps, REPEATS, self.keep, self.peaks
         )?;
         writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
         writeln!(

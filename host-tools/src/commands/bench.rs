@@ -50,6 +50,10 @@ enum What {
         /// `seen-again` (what the check costs, in the same run).
         #[arg(long, value_enum, default_value_t = super::map::KeepArg::Auto)]
         keep: super::map::KeepArg,
+        /// Which detections become points: the board's own rule (`auto`), `map` or
+        /// `direction` (what each costs, in the same run).
+        #[arg(long, value_enum, default_value_t = super::map::PeaksArg::Auto)]
+        peaks: super::map::PeaksArg,
     },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]
@@ -128,13 +132,23 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
         What::FftM7 { json } => super::print(&bench::m7::run(&locations.firmware()?)?, *json),
         What::Search { json } => super::print(&bench::search::run()?, *json),
         What::Dca1000 { json, mbytes } => super::print(&bench::dca1000::run(*mbytes)?, *json),
-        What::Network { json, board, keep } => {
+        What::Network {
+            json,
+            board,
+            keep,
+            peaks,
+        } => {
             let board = match board {
                 BenchBoard::Small => Board::Small,
                 BenchBoard::Imaging => Board::Imaging,
             };
-            let keep = keep.rule(board.submap_options().keep);
-            super::print(&bench::network::run(board, keep)?, *json)
+            let auto = board.submap_options();
+            let options = metamoran_map::depth::SubmapOptions {
+                keep: keep.rule(auto.keep),
+                peaks: peaks.rule(auto.peaks),
+                ..auto
+            };
+            super::print(&bench::network::run(board, options)?, *json)
         }
         What::Site {
             json,

@@ -50,11 +50,12 @@ pub struct Args {
     /// network was trained on.
     #[arg(long, value_enum, default_value_t = KeepArg::Auto)]
     keep: KeepArg,
-    /// Which detections become points: `map`, the range–Doppler map's local maxima (what the
-    /// shipped networks were trained on), or `direction`, every detected cell with each
-    /// direction kept where its own beam peaks in range and Doppler (weaker reflectors beside
-    /// stronger ones in other directions are found too: denser frames, see the README).
-    #[arg(long, value_enum, default_value_t = PeaksArg::Map)]
+    /// Which detections become points: `map`, the range–Doppler map's local maxima, or
+    /// `direction`, every detected cell with each direction kept where its own beam peaks in
+    /// range and Doppler (weaker reflectors beside stronger ones in other directions are found
+    /// too: denser frames, see the README). `auto` is what the board's shipped network was
+    /// trained on.
+    #[arg(long, value_enum, default_value_t = PeaksArg::Auto)]
     peaks: PeaksArg,
     /// Print the figures as JSON.
     #[arg(long)]
@@ -97,17 +98,21 @@ impl KeepArg {
 /// `map --peaks`: which detections become points.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PeaksArg {
+    /// What the board's shipped network was trained on.
+    Auto,
     /// Local maxima of the range–Doppler map.
     Map,
     /// Each direction's own peak in range and Doppler.
     Direction,
 }
 
-impl From<PeaksArg> for Peaks {
-    fn from(p: PeaksArg) -> Self {
-        match p {
-            PeaksArg::Map => Self::RangeDoppler,
-            PeaksArg::Direction => Self::Direction,
+impl PeaksArg {
+    /// The rule, with `auto` the board's.
+    pub fn rule(self, auto: Peaks) -> Peaks {
+        match self {
+            Self::Auto => auto,
+            Self::Map => Peaks::RangeDoppler,
+            Self::Direction => Peaks::Direction,
         }
     }
 }
@@ -130,7 +135,7 @@ pub fn run(args: &Args) -> super::Result {
             Cut::Off => None,
         },
         keep: args.keep.rule(auto.keep),
-        peaks: args.peaks.into(),
+        peaks: args.peaks.rule(auto.peaks),
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
