@@ -10,7 +10,8 @@ use metamoran_process::frame::{FrameOptions, FrameProcessor, FrameSpectra};
 /// The detector settings for mapping: CA-CFAR 9.5 dB over magnitude (×3), 2 guard and 8
 /// training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks within
 /// 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell; points at the
-/// map's local maxima ([`Peaks::RangeDoppler`], what the shipped networks were trained on).
+/// map's local maxima ([`Peaks::RangeDoppler`]; the imaging board's map takes each direction's
+/// own peak instead, [`crate::network::IMAGING_PEAKS`]).
 pub fn default_options() -> CloudOptions {
     let axis = |guard, train, boundary| Cfar {
         guard,

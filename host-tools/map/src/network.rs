@@ -19,7 +19,8 @@ pub enum Board {
     Small,
     /// A 2D aperture of three or more elevation rows (the 4D imaging board). Its network was
     /// trained on submaps cut to what is visible ([`Visibility::IMAGING_BEAM`]) that keep only
-    /// the earlier points the frame sees again ([`Keep::SEEN_AGAIN`]).
+    /// the earlier points the frame sees again ([`Keep::SEEN_AGAIN`]), of points at each
+    /// direction's own peak ([`Peaks::Direction`]).
     Imaging,
 }
 
@@ -52,8 +53,10 @@ impl Board {
     }
 }
 
-/// Which detections become the imaging board's points: the range–Doppler map's local maxima.
-pub const IMAGING_PEAKS: Peaks = Peaks::RangeDoppler;
+/// Which detections become the imaging board's points: each direction's own peak in range and
+/// Doppler, what its shipped network was trained on (README "the imaging network retrained on
+/// each direction's peaks").
+pub const IMAGING_PEAKS: Peaks = Peaks::Direction;
 
 /// Which earlier points the imaging board's submaps keep: those the frame sees again (issue
 /// #21, part 2; README "Submaps that keep what the frame sees again").
