@@ -7,7 +7,7 @@ use super::cylinder::{DepthImage, Visibility};
 use super::odometry::Odometry;
 use super::submap::{Keep, accumulate_keeping};
 use crate::MapError;
-use metamoran_dsp::points::Peaks;
+use metamoran_dsp::points::{CloudOptions, Peaks};
 use std::path::Path;
 
 /// A network that completes a submap's depth image: row-major ranges (m, 0 = empty) in, the
@@ -25,6 +25,17 @@ pub struct SubmapOptions {
     /// Which detections become the frames' points, for odometry and submaps alike
     /// ([`crate::report::run_with`]).
     pub peaks: Peaks,
+}
+
+impl SubmapOptions {
+    /// The mapping detector ([`crate::cloud::default_options`]) with these options' `peaks`:
+    /// what odometry runs with for these submaps.
+    pub fn cloud(&self) -> CloudOptions {
+        CloudOptions {
+            peaks: self.peaks,
+            ..crate::cloud::default_options()
+        }
+    }
 }
 
 /// One frame's depth images.

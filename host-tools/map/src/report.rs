@@ -13,7 +13,6 @@ use super::odometry::{self, Odometry};
 use super::submap::density_growth;
 use crate::MapError;
 use metamoran_dsp::ego::Mount;
-use metamoran_dsp::points::CloudOptions;
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -238,11 +237,7 @@ pub fn run_with(
     network: Option<Completion>,
     options: &depth::SubmapOptions,
 ) -> Result<(MapReport, Odometry, Option<DepthImages>), MapError> {
-    let cloud = CloudOptions {
-        peaks: options.peaks,
-        ..crate::cloud::default_options()
-    };
-    let odometry = odometry::run_with(dir, mount, cloud)?;
+    let odometry = odometry::run_with(dir, mount, options.cloud())?;
     let images = depth::last_with(dir, &odometry, network, options)?;
     let network_fps = match (network, &images) {
         (Some(n), Some(im)) => {

@@ -3,7 +3,7 @@
 //! whole map path per frame (point cloud, odometry, submap, network) for the frame-rate goal, on
 //! either board's drive scenes.
 
-use metamoran_dsp::points::{CloudOptions, Peaks};
+use metamoran_dsp::points::Peaks;
 use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::submap::Keep;
 use metamoran_map::{depth, odometry};
@@ -70,11 +70,7 @@ pub fn run(board: Board, options: depth::SubmapOptions) -> Result<NetworkReport,
     let (mut network_ms, mut ip_basic_ms, mut path_ms, mut frames) = (0.0, 0.0, 0.0, 0usize);
     for b in &bundles {
         let t = Instant::now();
-        let cloud = CloudOptions {
-            peaks: options.peaks,
-            ..metamoran_map::cloud::default_options()
-        };
-        let o = odometry::run_with(b, &MOUNT, cloud)?;
+        let o = odometry::run_with(b, &MOUNT, options.cloud())?;
         let n = o.tracked.len();
         let submaps: Vec<_> = (0..n)
             .map(|k| depth::submap_with(&o, k, &options).1)
