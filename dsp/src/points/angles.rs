@@ -229,84 +229,67 @@ fn elevation_peaks(
 /// [`MAX_DIRECTIONS`], each with its elevation (or, on an array of several elevated rows, its
 /// elevation peaks within `floor_db`, at most [`ELEVATIONS_PER_AZIMUTH`]). Returns how many.
 /// O(channels + L log L) plus O(channels + rows · [`ELEVATION_GRID`]) per azimuth.
+///
+/// [`cell_directions_where`] with every azimuth wanted.
 pub fn cell_directions(
     values: &[Complex32],
     geom: &ArrayGeometry,
     floor_db: f32,
     mut emit: impl FnMut(Direction),
 ) -> usize {
+    cell_directions_where(values, geom, floor_db, |_| Some(()), |(), d| emit(d))
+}
+
+/// [`cell_directions`] for a caller that rejects some azimuths on its own grounds (a point
+/// formed in another cell): `wanted(azimuth)` (rad) is asked once per azimuth, strongest first,
+/// before any elevation is searched, and only the azimuths it answers `Some(tag)` have theirs
+/// searched; `emit(tag, direction)` gets each of their directions, in the order
+/// [`cell_directions`] emits them, with that azimuth's tag. The directions are the same bits as
+/// [`cell_directions`]' for those azimuths (on an array of several elevated rows the fit that
+/// shares the rows among the azimuths still sees every azimuth). Returns how many were emitted.
+pub fn cell_directions_where<T: Copy>(
+    values: &[Complex32],
+    geom: &ArrayGeometry,
+    floor_db: f32,
+    mut wanted: impl FnMut(f32) -> Option<T>,
+    mut emit: impl FnMut(T, Direction),
+) -> usize {
     let n = geom.channels().min(values.len());
-    let len = geom.azimuth_fft_len();
-    let mut buf = [Complex32::new(0.0, 0.0); MAX_AZIMUTH_FFT];
-    let row = &mut buf[..len];
-    let mut count = [0u8; AZIMUTH_FFT];
-    for (ch, v) in values.iter().enumerate().take(n) {
-        if geom.elevation(ch) == 0 {
-            let p = geom.azimuth(ch);
-            row[p].re += v.re;
-            row[p].im += v.im;
-            count[p] = count[p].saturating_add(1);
-        }
+    let found = azimuths(&values[..n], geom, floor_db);
+    let mut keep: [Option<T>; MAX_DIRECTIONS] = [None; MAX_DIRECTIONS];
+    for (k, &(s, _)) in keep.iter_mut().zip(&found) {
+        *k = wanted(asinf(s));
     }
-    // Duplicate positions are averaged, so each position weighs once.
-    for (z, &c) in row.iter_mut().zip(&count) {
-        if c > 1 {
-            z.re /= f32::from(c);
-            z.im /= f32::from(c);
-        }
-    }
-    if cfft_f32(row).is_err() {
+    if keep.iter().all(Option::is_none) {
         return 0;
-    }
-    let mut mags = [f32::MIN; MAX_AZIMUTH_FFT];
-    for (m, z) in mags.iter_mut().zip(row.iter()) {
-        *m = db(*z);
-    }
-    let top = mags.iter().copied().fold(f32::MIN, f32::max);
-    let mut peaks: heapless::Vec<usize, MAX_AZIMUTH_FFT> = heapless::Vec::new();
-    for k in 0..len {
-        let (l, r) = (mags[(k + len - 1) % len], mags[(k + 1) % len]);
-        if mags[k] >= l && mags[k] > r && mags[k] >= top - floor_db {
-            let _ = peaks.push(k);
-        }
-    }
-    peaks.sort_unstable_by(|&a, &b| mags[b].total_cmp(&mags[a]));
-    let elevated = (0..n)
-        .find(|&c| geom.elevation(c) != 0)
-        .map(|c| geom.elevation(c));
-    // The azimuths (sin θ) and their base-row power.
-    let mut found: heapless::Vec<(f32, f32), MAX_DIRECTIONS> = heapless::Vec::new();
-    for &k in peaks.iter().take(MAX_DIRECTIONS) {
-        let signed = if k >= len / 2 {
-            k as f32 - len as f32
-        } else {
-            k as f32
-        };
-        let offset = quadratic_offset(mags[(k + len - 1) % len], mags[k], mags[(k + 1) % len]);
-        let s = 2.0 * (signed + offset) / len as f32;
-        if (-1.0..=1.0).contains(&s) {
-            let _ = found.push((s, mags[k]));
-        }
     }
     let mut emitted = 0;
     if geom.rows().len() > 2 {
         let sines: heapless::Vec<f32, MAX_DIRECTIONS> = found.iter().map(|f| f.0).collect();
         let rows = separate(values, geom, &sines);
-        for (&(s, power_db), beams) in found.iter().zip(&rows) {
+        for ((&(s, power_db), beams), &tag) in found.iter().zip(&rows).zip(&keep) {
+            let Some(tag) = tag else { continue };
             for (elevation, below_db) in
                 elevation_peaks(&beams[..geom.rows().len()], geom, floor_db)
             {
-                emit(Direction {
-                    azimuth: asinf(s),
-                    elevation,
-                    power_db: power_db + below_db,
-                });
+                emit(
+                    tag,
+                    Direction {
+                        azimuth: asinf(s),
+                        elevation,
+                        power_db: power_db + below_db,
+                    },
+                );
                 emitted += 1;
             }
         }
         return emitted;
     }
-    for &(s, power_db) in &found {
+    let elevated = (0..n)
+        .find(|&c| geom.elevation(c) != 0)
+        .map(|c| geom.elevation(c));
+    for (&(s, power_db), &tag) in found.iter().zip(&keep) {
+        let Some(tag) = tag else { continue };
         let elevation = match elevated {
             Some(e) => {
                 let up = beam(values, geom, s, |c| geom.elevation(c) == e);
@@ -324,14 +307,76 @@ pub fn cell_directions(
             }
             None => 0.0,
         };
-        emit(Direction {
-            azimuth: asinf(s),
-            elevation,
-            power_db,
-        });
+        emit(
+            tag,
+            Direction {
+                azimuth: asinf(s),
+                elevation,
+                power_db,
+            },
+        );
         emitted += 1;
     }
     emitted
+}
+
+/// The cell's azimuths: peaks of the zero-padded FFT over the base row within `floor_db` of
+/// the strongest, strongest first, at most [`MAX_DIRECTIONS`], each as (sin θ, dB).
+/// O(channels + L log L).
+fn azimuths(
+    values: &[Complex32],
+    geom: &ArrayGeometry,
+    floor_db: f32,
+) -> heapless::Vec<(f32, f32), MAX_DIRECTIONS> {
+    let len = geom.azimuth_fft_len();
+    let mut buf = [Complex32::new(0.0, 0.0); MAX_AZIMUTH_FFT];
+    let row = &mut buf[..len];
+    let mut count = [0u8; AZIMUTH_FFT];
+    for (ch, v) in values.iter().enumerate() {
+        if geom.elevation(ch) == 0 {
+            let p = geom.azimuth(ch);
+            row[p].re += v.re;
+            row[p].im += v.im;
+            count[p] = count[p].saturating_add(1);
+        }
+    }
+    // Duplicate positions are averaged, so each position weighs once.
+    for (z, &c) in row.iter_mut().zip(&count) {
+        if c > 1 {
+            z.re /= f32::from(c);
+            z.im /= f32::from(c);
+        }
+    }
+    let mut found = heapless::Vec::new();
+    if cfft_f32(row).is_err() {
+        return found;
+    }
+    let mut mags = [f32::MIN; MAX_AZIMUTH_FFT];
+    for (m, z) in mags.iter_mut().zip(row.iter()) {
+        *m = db(*z);
+    }
+    let top = mags.iter().copied().fold(f32::MIN, f32::max);
+    let mut peaks: heapless::Vec<usize, MAX_AZIMUTH_FFT> = heapless::Vec::new();
+    for k in 0..len {
+        let (l, r) = (mags[(k + len - 1) % len], mags[(k + 1) % len]);
+        if mags[k] >= l && mags[k] > r && mags[k] >= top - floor_db {
+            let _ = peaks.push(k);
+        }
+    }
+    peaks.sort_unstable_by(|&a, &b| mags[b].total_cmp(&mags[a]));
+    for &k in peaks.iter().take(MAX_DIRECTIONS) {
+        let signed = if k >= len / 2 {
+            k as f32 - len as f32
+        } else {
+            k as f32
+        };
+        let offset = quadratic_offset(mags[(k + len - 1) % len], mags[k], mags[(k + 1) % len]);
+        let s = 2.0 * (signed + offset) / len as f32;
+        if (-1.0..=1.0).contains(&s) {
+            let _ = found.push((s, mags[k]));
+        }
+    }
+    found
 }
 
 #[cfg(test)]
@@ -463,6 +508,42 @@ mod tests {
             (f64::from(near(0.25).elevation) + 0.05).abs() < 0.01,
             "{got:?}"
         );
+    }
+
+    #[test]
+    fn a_rejected_azimuth_is_not_searched_and_the_others_are_unchanged() {
+        // Two azimuths, the first with two elevations: reject each in turn; the rest come back with
+        // the same bits and their own tags, and `wanted` is asked once per azimuth.
+        let g = imaging();
+        let v = values(
+            &g,
+            &[(0.4, -0.17, 1.0), (0.4, 0.08, 0.8), (-0.3, 0.05, 1.2)],
+        );
+        let mut all = std::vec::Vec::new();
+        assert_eq!(cell_directions(&v, &g, 6.0, |d| all.push(d)), 3);
+        for reject in [0.4f32, -0.3] {
+            let (mut asked, mut got) = (0, std::vec::Vec::new());
+            let n = cell_directions_where(
+                &v,
+                &g,
+                6.0,
+                |az| {
+                    asked += 1;
+                    ((az.sin() - reject).abs() > 0.05).then_some(az.to_bits())
+                },
+                |tag, d| got.push((tag, d)),
+            );
+            assert_eq!(asked, 2);
+            let kept: std::vec::Vec<Direction> = all
+                .iter()
+                .copied()
+                .filter(|d| (d.azimuth.sin() - reject).abs() > 0.05)
+                .collect();
+            assert_eq!(n, kept.len());
+            assert!(!kept.is_empty() && kept.len() < all.len());
+            assert_eq!(got.iter().map(|g| g.1).collect::<std::vec::Vec<_>>(), kept);
+            assert!(got.iter().all(|(tag, d)| *tag == d.azimuth.to_bits()));
+        }
     }
 
     #[test]

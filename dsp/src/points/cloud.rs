@@ -12,7 +12,7 @@
 //! proportion to its Doppler. The power is the direction's beam power, and `rcs_db` adds `40·log10(range)` (the radar
 //! equation's spreading loss) for a relative, uncalibrated RCS.
 
-use super::angles::{BaseSteering, Direction, cell_directions};
+use super::angles::{BaseSteering, Direction, MAX_DIRECTIONS, cell_directions_where};
 use super::geometry::ArrayGeometry;
 use crate::config::{MAX_SLOTS, RadarConfig};
 use crate::detect::{Cfar2d, CfarError, quadratic_offset};
@@ -42,9 +42,10 @@ pub enum Peaks {
     /// Every detected cell, each of its directions kept only where that direction's own beam
     /// power peaks over the neighbouring range bins and Doppler bins (the same direction
     /// steered in each): a reflector is one point, at its own cell, however strong its
-    /// neighbours in other directions are. Three loads per range bin with a detection (the bin
-    /// and its two neighbours, so `spectra` holds three bins) and a few more beams per
-    /// direction.
+    /// neighbours in other directions are. A range bin with a detection needs its two
+    /// neighbours' spectra too (`spectra` holds three bins; each is loaded once in a run of
+    /// detected bins), and each direction a few more beams; elevations are searched only for
+    /// the directions whose point forms in the cell.
     Direction,
 }
 
@@ -213,9 +214,9 @@ impl<D: AsRef<[CQ15]>, E: AsRef<[Exponent]>> DopplerSpectra for CubeSpectra<'_, 
 /// [`Peaks::bins_held`] bins of `options.peaks`). Only
 /// detections at range bins in `bins_in` become points (`0..usize::MAX` for all): parts of the
 /// bins give the same points in the same order, so the host can split a frame among threads and
-/// concatenate. Returns the number of points. O(cells · window) for CFAR plus
-/// [`Peaks::bins_held`] [`DopplerSpectra::load`]s per range bin with a detection and
-/// O(channels) per direction.
+/// concatenate. Returns the number of points. O(cells · window) for CFAR plus at most
+/// [`Peaks::bins_held`] [`DopplerSpectra::load`]s per range bin with a detection (a bin still
+/// held from the bin before is not loaded again) and O(channels) per direction.
 ///
 /// # Errors
 /// [`PointsError`] on size mismatches.
@@ -246,7 +247,9 @@ pub fn frame_points(
         return Err(PointsError::Buffer("range-Doppler map"));
     }
     let at = |b: usize, d: usize| map[b * nd + d % nd];
-    let mut loaded = usize::MAX;
+    // The range bin each block of `spectra` holds: bin `n` in block `n % held`, so a bin's
+    // neighbours are never in its block and a run of detected bins loads each bin once.
+    let mut loaded = [usize::MAX; Peaks::Direction.bins_held()];
     let mut failed = None;
     let mut count = 0;
     let mut values = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
@@ -278,21 +281,25 @@ pub fn frame_points(
             if range < options.min_range_m {
                 return;
             }
-            if loaded != b {
-                // This bin first, then (by direction) the bins below and above it.
-                let (here, beside) = spectra.split_at_mut(block);
-                let (below, above) = beside.split_at_mut(block * (held - 1) / 2);
-                let loads = [Some((b, here)), b.checked_sub(1).zip(Some(below)), {
-                    Some(b + 1).filter(|&n| n < bins).zip(Some(above))
-                }];
-                for (bin, out) in loads.into_iter().take(held).flatten() {
-                    if let Err(e) = source.load(bin, out) {
+            // This bin, and by direction the bins below and above it, each unless held already.
+            for n in [Some(b), b.checked_sub(1), Some(b + 1).filter(|&n| n < bins)]
+                .into_iter()
+                .take(held)
+                .flatten()
+            {
+                let slot = n % held;
+                if loaded[slot] != n {
+                    loaded[slot] = usize::MAX;
+                    if let Err(e) = source.load(n, &mut spectra[slot * block..][..block]) {
                         failed = Some(e);
                         return;
                     }
+                    loaded[slot] = n;
                 }
-                loaded = b;
             }
+            // Where bin `n`'s spectra start.
+            let at_bin = |n: usize| (n % held) * block;
+            let here = at_bin(b);
             let spectra: &[Complex32] = spectra;
             let slots = config.slots();
             // Channel values of Doppler bin `k` unfolded by `alias` periods, TDM-MIMO Doppler
@@ -301,7 +308,7 @@ pub fn frame_points(
                 let turns = slot_phasors((nd, slots), (k, alias));
                 let k = k % nd;
                 for (ch, o) in out.iter_mut().enumerate() {
-                    *o = rotate(spectra[ch * nd + k], turns[ch / rx]);
+                    *o = rotate(spectra[here + ch * nd + k], turns[ch / rx]);
                 }
             };
             // The direction's power in Doppler bin `k`: the base row of that cell, TDM phase
@@ -309,14 +316,13 @@ pub fn frame_points(
             let power = |k: usize, alias: i32, steering: &BaseSteering| {
                 let turns = slot_phasors((nd, slots), (k, alias));
                 let k = k % nd;
-                steering.power_db(|ch| rotate(spectra[ch * nd + k], turns[ch / rx]))
+                steering.power_db(|ch| rotate(spectra[here + ch * nd + k], turns[ch / rx]))
             };
             // A direction's measured radial velocity (its own Doppler peak near `d`), and the
             // aliases to add to reach the prior's static point in that direction.
             let span = config.doppler_to_velocity(nd as f32, nd);
-            let measure = |dir: &Direction, alias: i32| {
-                let steering = BaseSteering::new(geom, sinf(dir.azimuth));
-                let (k, off) = doppler_peak(|k| power(k, alias, &steering), d + nd);
+            let measure = |azimuth: f32, steering: &BaseSteering, alias: i32| {
+                let (k, off) = doppler_peak(|k| power(k, alias, steering), d + nd);
                 let k = k % nd;
                 let own = k == d;
                 let signed = if k >= nd / 2 {
@@ -326,7 +332,7 @@ pub fn frame_points(
                 };
                 let folded = config.doppler_to_velocity(signed + off, nd);
                 let wanted = options.velocity_prior.map_or(0, |v| {
-                    let static_vr = -(sinf(dir.azimuth) * v[0] + cosf(dir.azimuth) * v[1]);
+                    let static_vr = -(sinf(azimuth) * v[0] + cosf(azimuth) * v[1]);
                     // Where a static point does not fold, the measurement stands: a mover's
                     // alias cannot be known.
                     if fabsf(static_vr) <= 0.5 * span - FOLD_MARGIN_MPS {
@@ -341,70 +347,75 @@ pub fn frame_points(
             // bins below and above (interpolated as the map's range is); `None` where a
             // neighbour is stronger, or its Doppler peak is another bin's (`own`): that
             // direction's point is formed there.
-            let own_range = |dir: &Direction, alias: i32, own: bool| -> Option<f32> {
+            let own_range = |steering: &BaseSteering, alias: i32, own: bool| -> Option<f32> {
                 if !by_direction {
                     return Some(range);
                 }
                 if !own {
                     return None;
                 }
-                let steering = BaseSteering::new(geom, sinf(dir.azimuth));
                 let turns = slot_phasors((nd, slots), (d, alias));
-                let beam = |at: usize| {
-                    steering
-                        .power_db(|ch| rotate(spectra[at * block + ch * nd + d], turns[ch / rx]))
+                let beam = |n: usize| {
+                    let at = at_bin(n);
+                    steering.power_db(|ch| rotate(spectra[at + ch * nd + d], turns[ch / rx]))
                 };
-                let here = beam(0);
-                let below = (b > 0).then(|| beam(1));
-                let above = (b + 1 < bins).then(|| beam(2));
-                if below.is_some_and(|p| p > here) || above.is_some_and(|p| p > here) {
+                let centre = beam(b);
+                let below = (b > 0).then(|| beam(b - 1));
+                let above = (b + 1 < bins).then(|| beam(b + 1));
+                if below.is_some_and(|p| p > centre) || above.is_some_and(|p| p > centre) {
                     return None;
                 }
                 let off = match (below, above) {
-                    (Some(l), Some(r)) => quadratic_offset(l, here, r),
+                    (Some(l), Some(r)) => quadratic_offset(l, centre, r),
                     _ => 0.0,
                 };
                 Some(config.bin_to_range(b as f32 + off, nr))
             };
             cell_at(d, 0, &mut values[..channels]);
             // First as measured; a direction whose prior asks for another alias is found again
-            // in the cell compensated for it.
-            let mut others: heapless::Vec<
-                i32,
-                { super::angles::MAX_DIRECTIONS * super::angles::ELEVATIONS_PER_AZIMUTH },
-            > = heapless::Vec::new();
-            cell_directions(
+            // in the cell compensated for it. Each azimuth is judged (its alias, its own range
+            // and Doppler peak) before its elevations are searched: only the azimuths whose
+            // point is formed in this cell are.
+            // An azimuth's point in this cell, in the cell compensated for `alias`: its range
+            // and radial velocity (m, m/s), `Ok(None)` if it forms in another cell, or
+            // `Err(wanted)` if the prior asks for another alias.
+            let form = |azimuth: f32, alias: i32| {
+                let steering = BaseSteering::new(geom, sinf(azimuth));
+                let (folded, wanted, own) = measure(azimuth, &steering, alias);
+                if wanted != alias {
+                    return Err(wanted);
+                }
+                // (As measured, the velocity is `folded` itself, −0 kept.)
+                let velocity = match alias {
+                    0 => folded,
+                    _ => folded + alias as f32 * span,
+                };
+                Ok(own_range(&steering, alias, own).map(|range| (range, velocity)))
+            };
+            let mut point = |(range, velocity): (f32, f32), dir: Direction| {
+                emit(RadarPoint::new(range, velocity, dir));
+                count += 1;
+            };
+            let mut others: heapless::Vec<i32, MAX_DIRECTIONS> = heapless::Vec::new();
+            let floor_db = options.direction_floor_db;
+            cell_directions_where(
                 &values[..channels],
                 geom,
-                options.direction_floor_db,
-                |dir| {
-                    let (folded, wanted, own) = measure(&dir, 0);
-                    if wanted == 0 {
-                        if let Some(range) = own_range(&dir, 0, own) {
-                            emit(RadarPoint::new(range, folded, dir));
-                            count += 1;
+                floor_db,
+                |azimuth| {
+                    form(azimuth, 0).unwrap_or_else(|wanted| {
+                        if !others.contains(&wanted) {
+                            let _ = others.push(wanted);
                         }
-                    } else if !others.contains(&wanted) {
-                        let _ = others.push(wanted);
-                    }
+                        None
+                    })
                 },
+                &mut point,
             );
             for &alias in &others {
                 cell_at(d, alias, &mut values[..channels]);
-                cell_directions(
-                    &values[..channels],
-                    geom,
-                    options.direction_floor_db,
-                    |dir| {
-                        let (folded, wanted, own) = measure(&dir, alias);
-                        if wanted == alias
-                            && let Some(range) = own_range(&dir, alias, own)
-                        {
-                            emit(RadarPoint::new(range, folded + alias as f32 * span, dir));
-                            count += 1;
-                        }
-                    },
-                );
+                let formed = |azimuth| form(azimuth, alias).ok().flatten();
+                cell_directions_where(&values[..channels], geom, floor_db, formed, &mut point);
             }
         })
         .map_err(PointsError::Cfar)?;

@@ -231,12 +231,16 @@ fn cloud(
     let held = peaks.bins_held();
     let mut values =
         vec![metamoran_dsp::fft::Complex32::new(0.0, 0.0); geometry.channels() * nd * held];
-    metamoran_dsp::points::frame_points(
-        &mut metamoran_dsp::points::CubeSpectra {
+    let mut source = Counted {
+        inner: metamoran_dsp::points::CubeSpectra {
             cube: proc.cube(),
             doppler,
             scratch: &mut scratch,
         },
+        loads: vec![0; spectra.range_bins],
+    };
+    metamoran_dsp::points::frame_points(
+        &mut source,
         &config,
         &geometry,
         &map,
@@ -251,5 +255,42 @@ fn cloud(
     )
     .unwrap();
     assert_eq!(points, whole);
+    // Detections come bin by bin, so no bin's spectra are formed twice in a frame (by
+    // direction a detected bin needs both neighbours: loading three per detected bin would
+    // form most bins three times).
+    assert!(source.loads.iter().any(|&n| n > 0), "no bin loaded");
+    assert!(
+        source.loads.iter().all(|&n| n <= 1),
+        "{peaks:?}: a bin loaded again: {:?}",
+        source
+            .loads
+            .iter()
+            .enumerate()
+            .filter(|e| *e.1 > 1)
+            .collect::<Vec<_>>()
+    );
     (config, whole)
+}
+
+/// A source that counts how often each range bin is loaded.
+struct Counted<S> {
+    inner: S,
+    loads: Vec<u32>,
+}
+
+impl<S: metamoran_dsp::points::DopplerSpectra> metamoran_dsp::points::DopplerSpectra
+    for Counted<S>
+{
+    fn channels(&self) -> usize {
+        self.inner.channels()
+    }
+
+    fn load(
+        &mut self,
+        bin: usize,
+        out: &mut [metamoran_dsp::fft::Complex32],
+    ) -> Result<(), metamoran_dsp::points::PointsError> {
+        self.loads[bin] += 1;
+        self.inner.load(bin, out)
+    }
 }
