@@ -22,8 +22,8 @@ pub struct SubmapOptions {
     pub keep: Keep,
     /// Whether the frame's and the submap's images are cut to what is visible, and how.
     pub visibility: Option<Visibility>,
-    /// Which detections become the frames' points, for odometry and submaps alike
-    /// ([`crate::report::run_with`]).
+    /// Which detections become the frames' points, for odometry and submaps alike (odometry
+    /// runs with [`Self::cloud`]).
     pub peaks: Peaks,
 }
 
