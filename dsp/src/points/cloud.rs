@@ -372,13 +372,10 @@ pub fn frame_points(
                 Some(config.bin_to_range(b as f32 + off, nr))
             };
             cell_at(d, 0, &mut values[..channels]);
-            // First as measured; a direction whose prior asks for another alias is found again
-            // in the cell compensated for it. Each azimuth is judged (its alias, its own range
-            // and Doppler peak) before its elevations are searched: only the azimuths whose
-            // point is formed in this cell are.
             // An azimuth's point in this cell, in the cell compensated for `alias`: its range
             // and radial velocity (m, m/s), `Ok(None)` if it forms in another cell, or
-            // `Err(wanted)` if the prior asks for another alias.
+            // `Err(wanted)` if the prior asks for another alias. Each azimuth is judged so
+            // before its elevations are searched: only the azimuths whose point forms here are.
             let form = |azimuth: f32, alias: i32| {
                 let steering = BaseSteering::new(geom, sinf(azimuth));
                 let (folded, wanted, own) = measure(azimuth, &steering, alias);
@@ -396,6 +393,8 @@ pub fn frame_points(
                 emit(RadarPoint::new(range, velocity, dir));
                 count += 1;
             };
+            // First as measured; a direction whose prior asks for another alias is found again
+            // in the cell compensated for it.
             let mut others: heapless::Vec<i32, MAX_DIRECTIONS> = heapless::Vec::new();
             let floor_db = options.direction_floor_db;
             cell_directions_where(
