@@ -20,7 +20,8 @@ use tract_onnx::prelude::*;
 pub const SHIPPED: &[u8] = include_bytes!("../models/radarhr.onnx");
 
 /// The same network trained on the 4D imaging board's submaps, cut to what is visible, over
-/// streets and parking areas (the tunnel held out): `models/radarhr-imaging.onnx`.
+/// streets, parking areas and covered car parks (the tunnel held out):
+/// `models/radarhr-imaging.onnx`.
 pub const SHIPPED_IMAGING: &[u8] = include_bytes!("../models/radarhr-imaging.onnx");
 
 /// A loaded 3D-RadarHR network, optimized for its fixed input size.
