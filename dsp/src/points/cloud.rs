@@ -1,7 +1,8 @@
 //! The point cloud of one frame: CFAR over the range–Doppler map, then the directions of each
 //! detected cell from its channel values. Which detections are points is [`Peaks`]'s choice:
 //! the map's local maxima (the module's way), or every cell, each direction kept where its own
-//! beam peaks in range and Doppler (a peak of the 4D range–Doppler–direction cube).
+//! beam peaks in range and Doppler (a peak of the 4D range–Doppler–direction cube). A
+//! [`Screen`] lets cells the CFAR misses through to that test too.
 //!
 //! Range is interpolated between bins (parabola through the dB values of the map). Radial
 //! velocity is found per direction: the base row steered to the direction's azimuth is
@@ -72,6 +73,9 @@ pub struct CloudOptions {
     /// dynamic range, below which CFAR only finds the range and Doppler side lobes of strong
     /// reflectors (the local noise estimate there is itself side lobes).
     pub dynamic_range_db: f32,
+    /// A second, looser test cells may pass instead of the detector's: `None` for the detector
+    /// alone.
+    pub screen: Option<Screen>,
     /// The radar's velocity `[v_x, v_z]` (m/s, radar frame) expected this frame, for a board
     /// whose unambiguous velocity a static world can exceed (a 4D imaging board's twelve TX
     /// slots give ±5 m/s). In directions where a static point's radial velocity comes within
@@ -82,6 +86,22 @@ pub struct CloudOptions {
     pub velocity_prior: Option<[f32; 2]>,
     /// Which detections become points.
     pub peaks: Peaks,
+}
+
+/// A looser test for the cells the detector ([`CloudOptions::cfar`] within
+/// [`CloudOptions::dynamic_range_db`]) misses: a cell passes where it exceeds `scale` times the
+/// detector's estimate of its training cells and lies within `dynamic_range_db` of the map's
+/// strongest cell. For [`Peaks::Direction`], whose own test of each direction's peak in range and
+/// Doppler decides what is a point: cells whose training window other directions' returns crowd
+/// are tested too. Never fewer cells than the detector alone: a frame whose strongest return
+/// is so strong that the near dynamic range holds little else keeps the detector's cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Screen {
+    /// CFAR scale over the training cells' estimate, at most the detector's (1: louder than
+    /// the estimate).
+    pub scale: f32,
+    /// Cells more than this far below the map's strongest fail, dB.
+    pub dynamic_range_db: f32,
 }
 
 /// One point of the cloud.
@@ -254,16 +274,32 @@ pub fn frame_points(
     let mut count = 0;
     let mut values = [Complex32::new(0.0, 0.0); crate::array::MAX_CHANNELS];
     let peak = map.iter().copied().fold(0.0f32, f32::max);
-    let floor = peak * libm::powf(10.0, -options.dynamic_range_db / 20.0);
-    options
-        .cfar
+    let below_peak = |db: f32| peak * libm::powf(10.0, -db / 20.0);
+    let floor = below_peak(options.dynamic_range_db);
+    // With a screen, the CFAR runs at the lower of the two scales and each test is applied to
+    // its estimate (the threshold over that scale: exact at scale 1).
+    let mut run = *options;
+    let screen = options.screen.map(|s| {
+        let scale = s.scale.min(run.cfar.rows.scale);
+        let detector = run.cfar.rows.scale;
+        run.cfar.rows.scale = scale;
+        (scale, detector, below_peak(s.dynamic_range_db), s.scale)
+    });
+    run.cfar
         .detect_rows(map, bins, nd, bins_in, |det| {
             if failed.is_some() {
                 return;
             }
             let (b, d) = (det.index / nd, det.index % nd);
             let v = det.value;
-            if v < floor {
+            let passes = match screen {
+                None => v >= floor,
+                Some((scale, detector, near_floor, loose)) => {
+                    let level = det.threshold / scale;
+                    (v > detector * level && v >= floor) || (v > loose * level && v >= near_floor)
+                }
+            };
+            if !passes {
                 return;
             }
             // Local maxima of the map only (Doppler wraps, range truncates), or every cell with

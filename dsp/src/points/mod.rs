@@ -13,7 +13,7 @@ pub mod geometry;
 
 pub use angles::{Direction, cell_directions};
 pub use cloud::{
-    CloudOptions, CubeSpectra, DopplerSpectra, Peaks, PointsError, RadarPoint, frame_points,
-    spectrum_f32,
+    CloudOptions, CubeSpectra, DopplerSpectra, Peaks, PointsError, RadarPoint, Screen,
+    frame_points, spectrum_f32,
 };
 pub use geometry::{ArrayGeometry, GeometryError};

@@ -7,7 +7,7 @@ use super::cylinder::{DepthImage, Visibility};
 use super::odometry::Odometry;
 use super::submap::{Keep, accumulate_keeping};
 use crate::MapError;
-use metamoran_dsp::points::{CloudOptions, Peaks};
+use metamoran_dsp::points::{CloudOptions, Peaks, Screen};
 use std::path::Path;
 
 /// A network that completes a submap's depth image: row-major ranges (m, 0 = empty) in, the
@@ -25,15 +25,17 @@ pub struct SubmapOptions {
     /// Which detections become the frames' points, for odometry and submaps alike (odometry
     /// runs with [`Self::cloud`]).
     pub peaks: Peaks,
+    /// A looser test of the cells the detector misses, for odometry and submaps alike.
+    pub screen: Option<Screen>,
 }
 
 impl SubmapOptions {
-    /// The mapping detector ([`crate::cloud::default_options`]) with these options' `peaks`:
-    /// what odometry runs with for these submaps.
+    /// The mapping detector for these options' `peaks` ([`crate::cloud::options`]) with their
+    /// `screen`: what odometry runs with for these submaps.
     pub fn cloud(&self) -> CloudOptions {
         CloudOptions {
-            peaks: self.peaks,
-            ..crate::cloud::default_options()
+            screen: self.screen,
+            ..crate::cloud::options(self.peaks)
         }
     }
 }

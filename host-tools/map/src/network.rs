@@ -48,6 +48,7 @@ impl Board {
                 keep: IMAGING_KEEP,
                 visibility: Some(Visibility::IMAGING_BEAM),
                 peaks: IMAGING_PEAKS,
+                screen: None,
             },
         }
     }

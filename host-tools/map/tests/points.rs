@@ -7,7 +7,7 @@
 use metamoran_dsp::capture::{IqOrder, deinterleave_bytes};
 use metamoran_dsp::config::RadarConfig;
 use metamoran_dsp::fixed::CQ15;
-use metamoran_dsp::points::{ArrayGeometry, Peaks, RadarPoint};
+use metamoran_dsp::points::{ArrayGeometry, CloudOptions, Peaks, RadarPoint};
 use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 use metamoran_sim::radar::{RadarKind, drive_config};
@@ -74,22 +74,19 @@ fn a_weak_reflector_beside_a_strong_one_in_range_is_its_own_peak_by_direction() 
     let strong = (86.0 * bin, -20.0, 0.0, 0.0);
     let weak = (87.0 * bin, 25.0, 0.0, 0.0);
     let targets = [(strong, 3000.0), (weak, 3000.0 * 10f64.powf(-8.0 / 20.0))];
-    let near = |points: &[RadarPoint], (r, az, _, _): Target| -> Vec<RadarPoint> {
-        points
-            .iter()
-            .filter(|p| {
-                (f64::from(p.range_m) - r).abs() < 2.0 * bin
-                    && (f64::from(p.azimuth).to_degrees() - az).abs() < 3.0
-            })
-            .copied()
-            .collect()
-    };
     let (_, by_map) = cloud(RadarKind::Imaging, &targets, None, Peaks::RangeDoppler);
-    assert_eq!(near(&by_map, strong).len(), 1, "{by_map:?}");
-    assert!(near(&by_map, weak).is_empty(), "{by_map:?}");
+    assert_eq!(
+        near(&by_map, strong, (2.0 * bin, 3.0)).len(),
+        1,
+        "{by_map:?}"
+    );
+    assert!(
+        near(&by_map, weak, (2.0 * bin, 3.0)).is_empty(),
+        "{by_map:?}"
+    );
     let (_, by_direction) = cloud(RadarKind::Imaging, &targets, None, Peaks::Direction);
     for (r, az, _, _) in [strong, weak] {
-        let found = near(&by_direction, (r, az, 0.0, 0.0));
+        let found = near(&by_direction, (r, az, 0.0, 0.0), (2.0 * bin, 3.0));
         assert_eq!(found.len(), 1, "{r} m, {az}°: {by_direction:?}");
         let p = found[0];
         assert!((f64::from(p.range_m) - r).abs() < bin / 4.0, "{p:?}");
@@ -97,6 +94,77 @@ fn a_weak_reflector_beside_a_strong_one_in_range_is_its_own_peak_by_direction() 
             (f64::from(p.azimuth).to_degrees() - az).abs() < 0.5,
             "{p:?}"
         );
+    }
+}
+
+#[test]
+fn the_direction_rule_screens_a_reflector_its_neighbours_crowd() {
+    // Static reflectors on the imaging board: twelve strong ones at −20°, three to eight range
+    // bins on either side of a weak one at +25°, 14 dB weaker. The strong ones fill the
+    // zero-Doppler row of the weak one's CFAR training window, so its cell is no 9.5 dB over
+    // their mean (the detector, ×3) but is over it (`DIRECTION_SCREEN`, ×1); its own
+    // beam then peaks there, and it is one point. (The strong ones and their Doppler main
+    // lobes put the training mean about 19 dB under one of them: 9.5 dB over it is −9.5 dB.)
+    let (config, _) = drive_config(RadarKind::Imaging);
+    let bin = f64::from(config.range_bin_size(config.range_fft_len()));
+    let weak = (86.0 * bin, 25.0, 0.0, 0.0);
+    let mut targets = vec![(weak, 3000.0 * 10f64.powf(-14.0 / 20.0))];
+    for off in (3..=8).flat_map(|k| [-k, k]) {
+        targets.push((((86 + off) as f64 * bin, -20.0, 0.0, 0.0), 3000.0));
+    }
+    let at_weak = |points: &[RadarPoint]| near(points, weak, (2.0 * bin, 3.0));
+    let direction = screened();
+    let (_, screened) = cloud_with(RadarKind::Imaging, &targets, &direction);
+    let found = at_weak(&screened);
+    assert_eq!(found.len(), 1, "{screened:?}");
+    assert!(
+        (f64::from(found[0].range_m) - weak.0).abs() < bin / 4.0,
+        "{found:?}"
+    );
+    // The same rule with the map's 9.5 dB CFAR alone loses it.
+    let unscreened_options = CloudOptions {
+        screen: None,
+        ..direction
+    };
+    let (_, unscreened) = cloud_with(RadarKind::Imaging, &targets, &unscreened_options);
+    assert!(at_weak(&unscreened).is_empty(), "{unscreened:?}");
+}
+
+#[test]
+fn the_direction_rule_keeps_what_the_map_detector_finds_under_a_strong_return() {
+    // A reflector 50 dB under a strong one, 40 range bins away: beyond the screen's 40 dB but
+    // well over its own neighbourhood, so the 9.5 dB detector finds it, and the screen must
+    // not lose it (a car passing close would otherwise empty the frame: it did, and odometry
+    // failed on those frames).
+    let (config, _) = drive_config(RadarKind::Imaging);
+    let bin = f64::from(config.range_bin_size(config.range_fft_len()));
+    let strong = (40.0 * bin, -10.0, 0.0, 0.0);
+    let faint = (80.0 * bin, 15.0, 0.0, 0.0);
+    let targets = [(strong, 3000.0), (faint, 3000.0 * 10f64.powf(-50.0 / 20.0))];
+    let (_, points) = cloud_with(RadarKind::Imaging, &targets, &screened());
+    for t in [strong, faint] {
+        let found = near(&points, t, (bin / 4.0, 1.0));
+        assert_eq!(found.len(), 1, "{t:?}: {points:?}");
+    }
+}
+
+/// The points within `range_m` m and `azimuth_deg` degrees of target `t`.
+fn near(points: &[RadarPoint], t: Target, (range_m, azimuth_deg): (f64, f64)) -> Vec<RadarPoint> {
+    points
+        .iter()
+        .filter(|p| {
+            (f64::from(p.range_m) - t.0).abs() < range_m
+                && (f64::from(p.azimuth).to_degrees() - t.1).abs() < azimuth_deg
+        })
+        .copied()
+        .collect()
+}
+
+/// The mapping detector by direction with `map --screen`'s screen.
+fn screened() -> CloudOptions {
+    CloudOptions {
+        screen: Some(metamoran_map::cloud::DIRECTION_SCREEN),
+        ..metamoran_map::cloud::options(Peaks::Direction)
     }
 }
 
@@ -161,14 +229,28 @@ fn check(
 }
 
 /// Synthesizes `targets` (each with its amplitude, LSB) on `kind`'s drive board and forms the
-/// cloud unfolded towards `prior` with `peaks`, checking that the processor's two threads give
-/// the one-thread `dsp` cloud bit for bit.
+/// cloud unfolded towards `prior` with the mapping's detector for `peaks`, checking that the
+/// processor's two threads give the one-thread `dsp` cloud bit for bit.
 fn cloud(
     kind: RadarKind,
     targets: &[(Target, f64)],
     prior: Option<[f32; 2]>,
     peaks: Peaks,
 ) -> (RadarConfig, Vec<RadarPoint>) {
+    let options = CloudOptions {
+        velocity_prior: prior,
+        ..metamoran_map::cloud::options(peaks)
+    };
+    cloud_with(kind, targets, &options)
+}
+
+/// [`cloud`] with the detector `options`.
+fn cloud_with(
+    kind: RadarKind,
+    targets: &[(Target, f64)],
+    options: &CloudOptions,
+) -> (RadarConfig, Vec<RadarPoint>) {
+    let peaks = options.peaks;
     let (mut config, tx_elevation) = drive_config(kind);
     config.frames = 1;
     let elevation: Vec<i16> = (0..config.channels())
@@ -201,17 +283,7 @@ fn cloud(
     .keeping_doppler_spectra();
     let spectra = proc.process(&samples).unwrap();
     let geometry = ArrayGeometry::new(&config, &tx_elevation, &[]).unwrap();
-    let points = proc
-        .points(
-            &spectra,
-            &geometry,
-            &metamoran_dsp::points::CloudOptions {
-                velocity_prior: prior,
-                peaks,
-                ..metamoran_map::cloud::default_options()
-            },
-        )
-        .unwrap();
+    let points = proc.points(&spectra, &geometry, options).unwrap();
     // The processor splits the map and the cloud between two threads, and the cloud reads the
     // Doppler spectra the map's pass kept: both are the one-thread `dsp` results, which form
     // each detected bin's spectra again from the cube, bit for bit.
@@ -244,11 +316,7 @@ fn cloud(
         &config,
         &geometry,
         &map,
-        &metamoran_dsp::points::CloudOptions {
-            velocity_prior: prior,
-            peaks,
-            ..metamoran_map::cloud::default_options()
-        },
+        options,
         0..usize::MAX,
         &mut values,
         |p| whole.push(p),

@@ -57,6 +57,12 @@ pub struct Args {
     /// trained on.
     #[arg(long, value_enum, default_value_t = PeaksArg::Auto)]
     peaks: PeaksArg,
+    /// Also test the cells the CFAR misses that are louder than their neighbourhood's mean and
+    /// within 40 dB of the strongest cell (with `--peaks direction`, which keeps only each
+    /// direction's own peak: denser frames and submaps; not what the shipped networks were
+    /// trained on, see the README's "the direction rule's screen").
+    #[arg(long)]
+    screen: bool,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
@@ -136,6 +142,9 @@ pub fn run(args: &Args) -> super::Result {
         },
         keep: args.keep.rule(auto.keep),
         peaks: args.peaks.rule(auto.peaks),
+        screen: args
+            .screen
+            .then_some(metamoran_map::cloud::DIRECTION_SCREEN),
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
