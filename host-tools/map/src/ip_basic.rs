@@ -56,26 +56,93 @@ fn morph(img: &[f32], kernel: &[(i32, i32)], max: bool) -> Vec<f32> {
 
 /// [`morph`] over a `size × size` square, as two passes: along rows, then along columns. The
 /// extreme of a square is the extreme of its rows' extremes, so the result is the same value
-/// for value; O(pixels · size) instead of O(pixels · size²).
+/// for value. Each pass is van Herk / Gil-Werman's: about three comparisons per pixel whatever
+/// the size, so O(pixels) where the full kernel is O(pixels · size²).
 fn morph_square(img: &[f32], size: i32, max: bool) -> Vec<f32> {
-    let (w, h) = (WIDTH as i32, HEIGHT as i32);
-    let r = size / 2;
-    let pick = |a: f32, b: f32| if max { a.max(b) } else { a.min(b) };
-    let pass = |src: &[f32], along_rows: bool| -> Vec<f32> {
-        let mut out = vec![0.0; src.len()];
-        for y in 0..h {
-            for x in 0..w {
-                let (c, n) = if along_rows { (x, w) } else { (y, h) };
-                let at = |i: i32| (if along_rows { y * w + i } else { i * w + x }) as usize;
-                out[at(c)] = ((c - r).max(0)..=(c + r).min(n - 1))
-                    .map(|i| src[at(i)])
-                    .reduce(pick)
-                    .unwrap_or(0.0);
-            }
+    let (w, h) = (WIDTH, HEIGHT);
+    let mut rows = vec![0.0; img.len()];
+    let mut line = Line::new(size as usize, max);
+    for y in 0..h {
+        line.run(&img[y * w..(y + 1) * w], &mut rows[y * w..(y + 1) * w]);
+    }
+    let (mut column, mut out_column) = (vec![0.0; h], vec![0.0; h]);
+    let mut out = vec![0.0; img.len()];
+    for x in 0..w {
+        for (y, c) in column.iter_mut().enumerate() {
+            *c = rows[y * w + x];
         }
-        out
-    };
-    pass(&pass(img, true), false)
+        line.run(&column, &mut out_column);
+        for (y, &v) in out_column.iter().enumerate() {
+            out[y * w + x] = v;
+        }
+    }
+    out
+}
+
+/// The running maximum (or minimum) of every window of `size` along a line, pixels outside
+/// ignored (padded with the identity, −∞ or +∞, which never wins: every window holds at least
+/// its own centre). The padded line is cut into blocks of `size`; a prefix extreme runs forward
+/// and a suffix extreme backward within each block, and a window, which spans at most two
+/// blocks, is the extreme of the first one's suffix and the second one's prefix.
+struct Line {
+    size: usize,
+    max: bool,
+    padded: Vec<f32>,
+    prefix: Vec<f32>,
+    suffix: Vec<f32>,
+}
+
+impl Line {
+    fn new(size: usize, max: bool) -> Self {
+        Self {
+            size,
+            max,
+            padded: Vec::new(),
+            prefix: Vec::new(),
+            suffix: Vec::new(),
+        }
+    }
+
+    fn pick(&self, a: f32, b: f32) -> f32 {
+        if self.max { a.max(b) } else { a.min(b) }
+    }
+
+    fn run(&mut self, src: &[f32], out: &mut [f32]) {
+        let (k, r) = (self.size, self.size / 2);
+        let identity = if self.max {
+            f32::NEG_INFINITY
+        } else {
+            f32::INFINITY
+        };
+        // src in the middle, r identities before it and enough after to fill the last block
+        let n = (src.len() + 2 * r).div_ceil(k) * k;
+        self.padded.clear();
+        self.padded.resize(r, identity);
+        self.padded.extend_from_slice(src);
+        self.padded.resize(n, identity);
+        self.prefix.resize(n, identity);
+        self.suffix.resize(n, identity);
+        for i in 0..n {
+            let v = self.padded[i];
+            self.prefix[i] = if i % k == 0 {
+                v
+            } else {
+                self.pick(self.prefix[i - 1], v)
+            };
+        }
+        for i in (0..n).rev() {
+            let v = self.padded[i];
+            self.suffix[i] = if i % k == k - 1 {
+                v
+            } else {
+                self.pick(self.suffix[i + 1], v)
+            };
+        }
+        // output i is the window padded[i ..= i + k − 1]
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.pick(self.suffix[i], self.prefix[i + k - 1]);
+        }
+    }
 }
 
 fn fill_empty(img: &mut [f32], size: i32) {
