@@ -1,8 +1,9 @@
 //! 3D-RadarHR, the dense-radar-mapping paper's network (issue #7), as shipped:
 //!
-//! * tract runs both shipped ONNX graphs (the small board's and the imaging board's) as an
-//!   independent numpy float64 evaluation of them does (`oracles/onnx_reference.py`, written
-//!   from the ONNX operator definitions), on a real submap depth image;
+//! * tract runs both shipped ONNX graphs (the small board's and the imaging board's, which also
+//!   takes the submap's IP-Basic completion as a guide) as an independent numpy float64
+//!   evaluation of them does (`oracles/onnx_reference.py`, written from the ONNX operator
+//!   definitions), on a real submap depth image;
 //! * on drive scenes it was not trained on (the training script uses seed 5000), its depth image
 //!   is closer to the lidar truth than IP-Basic's on every scene and than the submap's over the
 //!   scenes, and it covers most of what the lidar sees;
@@ -14,7 +15,8 @@
 //!   the model.
 
 use metamoran_e2e::run_oracle;
-use metamoran_map::{depth, report};
+use metamoran_map::network::{Board, CompletionNetwork};
+use metamoran_map::{depth, ip_basic, report};
 use metamoran_sim::drive::MOUNT;
 use metamoran_sim::{layout::Preset, radar::RadarKind, simulate};
 use metamoran_vision::RadarHr;
@@ -50,7 +52,10 @@ fn tract_runs_the_shipped_networks_as_numpy_does() {
     ] {
         let net = RadarHr::from_bytes(std::path::Path::new(name), bytes).unwrap();
         assert_eq!(net.size(), (320, 80));
-        let got = net.complete(&images.submap.range_m).unwrap();
+        // A guided model's second image is the submap's IP-Basic completion, as `map` gives it.
+        let submap = &images.submap.range_m;
+        let guide = (net.channels() == 2).then(|| ip_basic::complete(submap));
+        let got = net.complete(submap, guide.as_deref()).unwrap();
 
         // The reference gets the input as the contract defines it (depth / max, clipped to 1).
         let max = net.max_depth_m();
@@ -61,10 +66,9 @@ fn tract_runs_the_shipped_networks_as_numpy_does() {
             tmp.path().join("out.f64"),
         );
         std::fs::write(&model, bytes).unwrap();
-        let input_bytes: Vec<u8> = images
-            .submap
-            .range_m
+        let input_bytes: Vec<u8> = submap
             .iter()
+            .chain(guide.iter().flatten())
             .flat_map(|r| (r / max).min(1.0).to_le_bytes())
             .collect();
         std::fs::write(&input, input_bytes).unwrap();
@@ -99,11 +103,8 @@ fn tract_runs_the_shipped_networks_as_numpy_does() {
 #[test]
 fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
     let (_keep, dirs) = drives(41, 3);
-    let net = RadarHr::shipped().unwrap();
-    let complete = |r: &[f32]| {
-        net.complete(r)
-            .map_err(|e| metamoran_map::MapError::Network(e.to_string()))
-    };
+    let net = CompletionNetwork::load(None, Board::Small).unwrap();
+    let complete = |r: &[f32]| net.complete(r);
     let (mut network_mae, mut submap_mae, mut accuracies) = (0.0, 0.0, Vec::new());
     for dir in &dirs {
         let (rep, _, images) = report::run(dir, &MOUNT, Some(&complete)).unwrap();
@@ -154,16 +155,13 @@ fn the_network_beats_ip_basic_and_the_submap_on_unseen_drives() {
 /// and its default submap options.
 fn imaging_report(preset: Preset, seed: u64) -> report::MapReport {
     let (_keep, dirs) = scenes(preset, RadarKind::Imaging, seed, 1);
-    let net = RadarHr::shipped_imaging().unwrap();
-    let complete = |r: &[f32]| {
-        net.complete(r)
-            .map_err(|e| metamoran_map::MapError::Network(e.to_string()))
-    };
+    let net = CompletionNetwork::load(None, Board::Imaging).unwrap();
+    let complete = |r: &[f32]| net.complete(r);
     let (rep, _, _) = report::run_with(
         &dirs[0],
         &MOUNT,
         Some(&complete),
-        &metamoran_map::network::Board::Imaging.submap_options(),
+        &Board::Imaging.submap_options(),
     )
     .unwrap();
     rep
@@ -249,12 +247,15 @@ fn bad_models_and_images_are_refused_naming_the_model() {
     let err = RadarHr::load(&missing).err().unwrap().to_string();
     assert!(err.contains("missing.onnx"), "{err}");
     let net = RadarHr::shipped().unwrap();
-    let err = net.complete(&[0.0; 100]).unwrap_err().to_string();
+    let err = net.complete(&[0.0; 100], None).unwrap_err().to_string();
     assert!(err.contains("100 pixels") && err.contains("320"), "{err}");
     let mut img = vec![0.0f32; 320 * 80];
     img[7] = f32::NAN;
-    let err = net.complete(&img).unwrap_err().to_string();
+    let err = net.complete(&img, None).unwrap_err().to_string();
     assert!(err.contains("pixel 7"), "{err}");
+    // The small board's model takes one image; a guide is refused, not ignored.
+    let err = net.complete(&img, Some(&img)).unwrap_err().to_string();
+    assert!(err.contains("takes 1 image"), "{err}");
     // A camera model (input [1, 3, H, W]) is not a depth-completion network.
     if run_oracle("camera_models.py", &[tmp.path().as_os_str()], "onnx").is_some() {
         let err = RadarHr::load(&tmp.path().join("fixed.onnx"))

@@ -16,7 +16,7 @@ pub fn default_options() -> CloudOptions {
 /// The detector settings for mapping with `peaks`: CA-CFAR 9.5 dB over magnitude (×3), 2 guard
 /// and 8 training range bins, 1 guard and 4 training Doppler bins (wrapping); azimuth peaks
 /// within 8 dB; nothing nearer than 1.5 m or more than 80 dB below the strongest cell; no
-/// [`Screen`] (`map --screen` adds [`DIRECTION_SCREEN`]).
+/// [`Screen`] (the imaging board's submaps and `map --screen` add [`DIRECTION_SCREEN`]).
 ///
 /// ```
 /// use metamoran_dsp::points::Peaks;
@@ -50,17 +50,19 @@ pub fn options(peaks: Peaks) -> CloudOptions {
     }
 }
 
-/// The cells `map --screen` also tests (for [`Peaks::Direction`], whose own test of each
+/// The cells the imaging board's submaps (and `map --screen`) also test (for [`Peaks::Direction`], whose own test of each
 /// direction's peak in range and Doppler decides what is a point): louder than their training
 /// cells' mean (×1) and within 40 dB of the strongest cell. At 9.5 dB over the summed map's
 /// neighbourhood the rule lost reflectors whose cell other directions' returns crowd; below 40
 /// dB, with no margin over the neighbourhood asked, lie mostly the range and Doppler side lobes
 /// of the strongest reflectors (Hann: −31 dB and falling). Picked on 12 fresh imaging scenes
 /// (seeds 9510–9810) from scales 0–3 and ranges 40–80 dB and checked on 12 others (README "the
-/// direction rule's screen"). Not the imaging board's default: its network, retrained on such
-/// submaps, did worse in the held-out tunnel. It assumes the noise lies lower still, as in the
-/// simulator (62 dB of processing gain over thermal noise near one LSB); a capture whose noise
-/// comes within 40 dB of its strongest return would need a floor over the noise as well.
+/// direction rule's screen"). The imaging board's default since its network takes IP-Basic's
+/// completion as a guide (README "a network that corrects IP-Basic"); retrained on such
+/// submaps without the guide it did worse in the held-out tunnel. It assumes the noise lies
+/// lower still, as in the simulator (62 dB of processing gain over thermal noise near one
+/// LSB); a capture whose noise comes within 40 dB of its strongest return would need a floor
+/// over the noise as well.
 pub const DIRECTION_SCREEN: Screen = Screen {
     scale: 1.0,
     dynamic_range_db: 40.0,

@@ -3,6 +3,7 @@
 //! Needs the `onnx` feature; without it, loading says how to build with it.
 
 use crate::MapError;
+use crate::cloud::DIRECTION_SCREEN;
 use crate::cylinder::Visibility;
 use crate::depth::SubmapOptions;
 use crate::submap::Keep;
@@ -20,7 +21,8 @@ pub enum Board {
     /// A 2D aperture of three or more elevation rows (the 4D imaging board). Its network was
     /// trained on submaps cut to what is visible ([`Visibility::IMAGING_BEAM`]) that keep only
     /// the earlier points the frame sees again ([`Keep::SEEN_AGAIN`]), of points at each
-    /// direction's own peak ([`Peaks::Direction`]).
+    /// direction's own peak ([`Peaks::Direction`]) under the detector's screen
+    /// ([`DIRECTION_SCREEN`]), and takes the submap's IP-Basic completion as a guide.
     Imaging,
 }
 
@@ -40,7 +42,8 @@ impl Board {
 
     /// The submaps this board's shipped network was trained on: every point and no cut on the
     /// small board; on the imaging board, cut to what the imaging beam sees, keeping
-    /// [`IMAGING_KEEP`] of the earlier points, with points at [`IMAGING_PEAKS`].
+    /// [`IMAGING_KEEP`] of the earlier points, with points at [`IMAGING_PEAKS`] under
+    /// [`DIRECTION_SCREEN`].
     pub fn submap_options(self) -> SubmapOptions {
         match self {
             Self::Small => SubmapOptions::default(),
@@ -48,7 +51,7 @@ impl Board {
                 keep: IMAGING_KEEP,
                 visibility: Some(Visibility::IMAGING_BEAM),
                 peaks: IMAGING_PEAKS,
-                screen: None,
+                screen: Some(DIRECTION_SCREEN),
             },
         }
     }
@@ -96,15 +99,26 @@ impl CompletionNetwork {
         }
     }
 
-    /// Completes a 320 × 80 submap depth image (row-major ranges, m, 0 = empty).
+    /// Completes a 320 × 80 submap depth image (row-major ranges, m, 0 = empty). A model that
+    /// takes a guide gets the submap's IP-Basic completion ([`crate::ip_basic::complete`]) as
+    /// its second image.
     ///
     /// # Errors
     /// The model's message (wrong size, bad depth, inference failure).
     pub fn complete(&self, range_m: &[f32]) -> Result<Vec<f32>, MapError> {
         #[cfg(feature = "onnx")]
         {
+            // An image of another size goes to the model as it is, which refuses it by name.
+            let sized = range_m.len() == crate::cylinder::WIDTH * crate::cylinder::HEIGHT;
+            let guide = (self.inner.channels() == 2).then(|| {
+                if sized {
+                    crate::ip_basic::complete(range_m)
+                } else {
+                    range_m.to_vec()
+                }
+            });
             self.inner
-                .complete(range_m)
+                .complete(range_m, guide.as_deref())
                 .map_err(|e| MapError::Network(e.to_string()))
         }
         #[cfg(not(feature = "onnx"))]

@@ -28,7 +28,10 @@ pub struct NetworkReport {
     /// Which detections became points: `map` (the range–Doppler map's local maxima) or
     /// `direction` (each direction's own peak).
     pub peaks: &'static str,
-    /// Network, ms per 320 × 80 image.
+    /// Whether the detector's screen applied (`map --screen`).
+    pub screen: bool,
+    /// Network, ms per 320 × 80 image (with a guided model, the IP-Basic completion it takes
+    /// as its second image included).
     pub network_ms: f64,
     /// IP-Basic (the baseline), ms per image.
     pub ip_basic_ms: f64,
@@ -98,6 +101,7 @@ pub fn run(board: Board, options: depth::SubmapOptions) -> Result<NetworkReport,
             Peaks::RangeDoppler => "map",
             Peaks::Direction => "direction",
         },
+        screen: options.screen.is_some(),
         network_ms,
         ip_basic_ms,
         ratio: network_ms / ip_basic_ms,
@@ -112,8 +116,13 @@ impl std::fmt::Display for NetworkReport {
         writeln!(
             f,
             "Depth completion of a 320 × 80 drive submap, {} board ({} submaps, {} runs each; \
-             earlier points kept: {}; peaks: {})",
-            self.board, self.submaps, REPEATS, self.keep, self.peaks
+             earlier points kept: {}; peaks: {}; screen: {})",
+            self.board,
+            self.submaps,
+            REPEATS,
+            self.keep,
+            self.peaks,
+            if self.screen { "on" } else { "off" }
         )?;
         writeln!(f, "  IP-Basic (baseline)  {:>7.2} ms", self.ip_basic_ms)?;
         writeln!(

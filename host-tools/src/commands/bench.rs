@@ -54,6 +54,10 @@ enum What {
         /// `direction` (what each costs, in the same run).
         #[arg(long, value_enum, default_value_t = super::map::PeaksArg::Auto)]
         peaks: super::map::PeaksArg,
+        /// Whether the detector's screen applies: the board's own rule (`auto`), `on` or `off`
+        /// (what it costs, in the same run).
+        #[arg(long, value_enum, default_value_t = super::map::Cut::Auto)]
+        screen: super::map::Cut,
     },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]
@@ -137,6 +141,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
             board,
             keep,
             peaks,
+            screen,
         } => {
             let board = match board {
                 BenchBoard::Small => Board::Small,
@@ -146,6 +151,7 @@ pub fn run(args: &Args, locations: &Locations) -> super::Result {
             let options = metamoran_map::depth::SubmapOptions {
                 keep: keep.rule(auto.keep),
                 peaks: peaks.rule(auto.peaks),
+                screen: screen.rule(auto.screen, metamoran_map::cloud::DIRECTION_SCREEN),
                 ..auto
             };
             super::print(&bench::network::run(board, options)?, *json)

@@ -5,7 +5,7 @@ use metamoran_dsp::points::Peaks;
 use metamoran_map::network::{Board, CompletionNetwork};
 use metamoran_map::report::MapReport;
 use metamoran_map::submap::Keep;
-use metamoran_map::{cylinder, depth, report};
+use metamoran_map::{cylinder, depth, ip_basic, report};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -34,7 +34,9 @@ pub struct Args {
     #[arg(long, conflicts_with = "model")]
     no_network: bool,
     /// Also write every frame's submap and lidar depth images as training pairs
-    /// (OUT/pairs/submap_FFFFFF.png, OUT/pairs/lidar_FFFFFF.png) for train/radarhr.py.
+    /// (OUT/pairs/submap_FFFFFF.png, OUT/pairs/lidar_FFFFFF.png) for train/radarhr.py, with
+    /// the submap's IP-Basic completion (OUT/pairs/ip_basic_FFFFFF.png), a guided model's
+    /// second input.
     #[arg(long)]
     training_pairs: bool,
     /// Whether to cut the frame's and the submap's depth images to what is visible before
@@ -57,26 +59,39 @@ pub struct Args {
     /// trained on.
     #[arg(long, value_enum, default_value_t = PeaksArg::Auto)]
     peaks: PeaksArg,
-    /// Also test the cells the CFAR misses that are louder than their neighbourhood's mean and
-    /// within 40 dB of the strongest cell (with `--peaks direction`, which keeps only each
-    /// direction's own peak: denser frames and submaps; not what the shipped networks were
-    /// trained on, see the README's "the direction rule's screen").
-    #[arg(long)]
-    screen: bool,
+    /// Whether the detector also tests the cells the CFAR misses that are louder than their
+    /// neighbourhood's mean and within 40 dB of the strongest cell (with `--peaks direction`,
+    /// which keeps only each direction's own peak: denser frames and submaps, see the README's
+    /// "the direction rule's screen"). `auto` is what the board's shipped network was trained
+    /// on; `--screen` alone is `on`.
+    #[arg(long, value_enum, default_value_t = Cut::Auto, num_args = 0..=1, default_missing_value = "on")]
+    screen: Cut,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
 }
 
-/// `map --visibility`: whether the depth images are cut to what is visible.
+/// `map --visibility` and `--screen`: whether the depth images are cut to what is visible, and
+/// whether the detector's screen applies.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cut {
-    /// On the imaging board, not on the small board.
+    /// As the board's shipped network was trained.
     Auto,
     /// Always.
     On,
     /// Never.
     Off,
+}
+
+impl Cut {
+    /// `value` where on, none where off, `auto` where auto.
+    pub fn rule<T>(self, auto: Option<T>, value: T) -> Option<T> {
+        match self {
+            Self::Auto => auto,
+            Self::On => Some(value),
+            Self::Off => None,
+        }
+    }
 }
 
 /// `map --keep`: which earlier points the submap keeps.
@@ -135,16 +150,14 @@ pub fn run(args: &Args) -> super::Result {
     let complete = network.as_ref().map(|n| move |r: &[f32]| n.complete(r));
     let auto = board.submap_options();
     let options = depth::SubmapOptions {
-        visibility: match args.visibility {
-            Cut::Auto => auto.visibility,
-            Cut::On => Some(cylinder::Visibility::IMAGING_BEAM),
-            Cut::Off => None,
-        },
+        visibility: args
+            .visibility
+            .rule(auto.visibility, cylinder::Visibility::IMAGING_BEAM),
         keep: args.keep.rule(auto.keep),
         peaks: args.peaks.rule(auto.peaks),
         screen: args
             .screen
-            .then_some(metamoran_map::cloud::DIRECTION_SCREEN),
+            .rule(auto.screen, metamoran_map::cloud::DIRECTION_SCREEN),
     };
     let (report, odometry, images) = report::run_with(
         &args.bundle,
@@ -172,7 +185,11 @@ pub fn run(args: &Args) -> super::Result {
         std::fs::create_dir_all(&pairs)
             .map_err(|e| format!("{}: cannot create ({e})", pairs.display()))?;
         for (k, submap, truth) in depth::training_pairs(&args.bundle, &odometry, &options)? {
+            let guide = cylinder::DepthImage {
+                range_m: ip_basic::complete(&submap.range_m),
+            };
             png(out, &format!("pairs/submap_{k:06}.png"), &submap)?;
+            png(out, &format!("pairs/ip_basic_{k:06}.png"), &guide)?;
             png(out, &format!("pairs/lidar_{k:06}.png"), &truth)?;
         }
     }

@@ -4,8 +4,10 @@
 //! (`models/radarhr.onnx`, written by `train/radarhr.py`); another can be loaded from a file.
 //!
 //! # Model contract
-//! * Input 0 `f32 [1, 1, H, W]`: depth / `max_depth_m`, clipped to 1; 0 = no observation (the
-//!   network binarizes it into its observation mask).
+//! * Input 0 `f32 [1, C, H, W]`, `C` = 1 or 2: channel 0 is the submap's depth / `max_depth_m`,
+//!   clipped to 1, 0 = no observation (the network binarizes it into its observation mask); a
+//!   second channel, if the model has one, is a guide image scaled the same way (the submap's
+//!   IP-Basic completion, which the caller computes: see [`RadarHr::channels`]).
 //! * Output 0 `f32 [1, 1, H, W]`: depth / `max_depth_m`; depths under `min_depth_m` mean "no
 //!   return" (sky, beyond the lidar's range).
 //! * Metadata properties `max_depth_m` and `min_depth_m` (metres).
@@ -30,6 +32,7 @@ pub struct RadarHr {
     plan: Plan,
     width: usize,
     height: usize,
+    channels: usize,
     max_depth_m: f32,
     min_depth_m: f32,
 }
@@ -82,11 +85,12 @@ impl RadarHr {
         };
         let model = onnx().model_for_read(&mut &bytes[..]).map_err(load)?;
         let dims = input_dims(&model).map_err(load)?;
-        let (height, width) = match dims[..] {
-            [Some(1), Some(1), Some(h), Some(w)] if model.inputs.len() == 1 => (h, w),
+        let (channels, height, width) = match dims[..] {
+            [Some(1), Some(c @ (1 | 2)), Some(h), Some(w)] if model.inputs.len() == 1 => (c, h, w),
             _ => {
                 return Err(contract(format!(
-                    "its input is {dims:?} (None = free); the contract is one fixed [1, 1, H, W]"
+                    "its input is {dims:?} (None = free); the contract is one fixed \
+                     [1, 1, H, W] (a submap) or [1, 2, H, W] (a submap and its guide)"
                 )));
             }
         };
@@ -113,6 +117,7 @@ impl RadarHr {
             plan,
             width,
             height,
+            channels,
             max_depth_m,
             min_depth_m,
         })
@@ -123,45 +128,68 @@ impl RadarHr {
         (self.width, self.height)
     }
 
+    /// How many images it takes: 1 (the submap) or 2 (the submap and a guide, the submap's
+    /// IP-Basic completion, that [`RadarHr::complete`] then needs).
+    pub fn channels(&self) -> usize {
+        self.channels
+    }
+
     /// The largest depth it represents, m.
     pub fn max_depth_m(&self) -> f32 {
         self.max_depth_m
     }
 
     /// Completes `range_m` (row-major `width × height`, metres, 0 = empty) into a dense depth
-    /// image of the same layout (0 = no return). One inference: O(pixels × weights).
+    /// image of the same layout (0 = no return), with `guide` (same layout and units) as the
+    /// second channel of a two-channel model. One inference: O(pixels × weights).
     ///
     /// # Errors
     /// [`VisionError::Contract`] for an image of another size or with a negative or non-finite
-    /// depth; [`VisionError::Run`] if inference fails.
-    pub fn complete(&self, range_m: &[f32]) -> Result<Vec<f32>, VisionError> {
+    /// depth, or a guide the model does not take (or lacks); [`VisionError::Run`] if inference
+    /// fails.
+    pub fn complete(
+        &self,
+        range_m: &[f32],
+        guide: Option<&[f32]>,
+    ) -> Result<Vec<f32>, VisionError> {
         let contract = |what: String| VisionError::Contract {
             path: self.source.clone(),
             what,
         };
-        if range_m.len() != self.width * self.height {
-            return Err(contract(format!(
-                "the depth image has {} pixels; the network takes {} × {}",
-                range_m.len(),
-                self.width,
-                self.height
-            )));
+        let images: &[(&str, &[f32])] = match (guide, self.channels) {
+            (None, 1) => &[("depth image", range_m)],
+            (Some(g), 2) => &[("depth image", range_m), ("guide", g)],
+            (g, c) => {
+                return Err(contract(format!(
+                    "it takes {c} image(s) and was given {}",
+                    1 + usize::from(g.is_some())
+                )));
+            }
+        };
+        let pixels = self.width * self.height;
+        let mut input = Vec::with_capacity(pixels * images.len());
+        for (what, img) in images {
+            if img.len() != pixels {
+                return Err(contract(format!(
+                    "the {what} has {} pixels; the network takes {} × {}",
+                    img.len(),
+                    self.width,
+                    self.height
+                )));
+            }
+            if let Some(i) = img.iter().position(|r| !(r.is_finite() && *r >= 0.0)) {
+                return Err(contract(format!(
+                    "pixel {i} of the {what} is {} m; depths are finite and ≥ 0",
+                    img[i]
+                )));
+            }
+            input.extend(img.iter().map(|&r| (r / self.max_depth_m).min(1.0)));
         }
-        if let Some(i) = range_m.iter().position(|r| !(r.is_finite() && *r >= 0.0)) {
-            return Err(contract(format!(
-                "pixel {i} of the depth image is {} m; depths are finite and ≥ 0",
-                range_m[i]
-            )));
-        }
-        let input: Vec<f32> = range_m
-            .iter()
-            .map(|&r| (r / self.max_depth_m).min(1.0))
-            .collect();
         let run = |reason: String| VisionError::Run {
             path: self.source.clone(),
             reason,
         };
-        let tensor = Tensor::from_shape(&[1, 1, self.height, self.width], &input)
+        let tensor = Tensor::from_shape(&[1, images.len(), self.height, self.width], &input)
             .map_err(|e| run(format!("{e:#}")))?;
         let out = self
             .plan
@@ -173,7 +201,7 @@ impl RadarHr {
             .try_as_plain_ram()
             .and_then(|v| v.as_slice::<f32>())
             .map_err(|e| run(format!("output is not f32 ({e})")))?;
-        if values.len() != input.len() {
+        if values.len() != pixels {
             return Err(contract(format!(
                 "its output has {} values; the contract is [1, 1, {}, {}]",
                 values.len(),

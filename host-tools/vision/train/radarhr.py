@@ -18,6 +18,13 @@ The network, as the paper describes it:
     the same scale (skip connections), convolution, BN and ReLU; at full scale the input depth
     and mask are concatenated once more before a last convolution;
   - a 1 x 1 convolution and a sigmoid: depth / max_depth_m.
+With `--guide` the network also takes the submap's IP-Basic completion (the pairs'
+ip_basic_FFFFFF.png, which `map` computes again before inference) as a second input channel:
+  - the encoder sees [submap, observation mask, guide], its sparse convolutions' mask being where
+    either has a depth, and the full-scale features see all three again;
+  - a second 1 x 1 convolution and sigmoid give a gate g per pixel, and the output is
+    g * guide + (1 - g) * the network's own depth: where the network has learnt nothing of a
+    place (an environment held out of training) it can keep the completion it was given.
 Loss: alpha * Dice + (1 - alpha) * BCE, alpha = 0.3 (the paper's Eq. 7), the target being the
 lidar depth / max_depth_m (0 where the lidar has no return); with `--l1 W`, plus W times the mean
 absolute error of depth / max_depth_m over the pixels the lidar fills. BCE's gradient is the
@@ -26,9 +33,10 @@ off at 60 m and the near ground stays biased; the L1 term's pull does not shrink
 error, which is what MAE and point accuracy measure. 0 (the paper's loss) for the small
 board's model, 1 for the imaging board's.
 
-Usage: radarhr.py PAIRS_DIR OUT.onnx [--minutes M] [--seed S] [--l1 W]
-PAIRS_DIR holds bundle folders' `map --training-pairs` outputs: */pairs/submap_FFFFFF.png and
-*/pairs/lidar_FFFFFF.png (16-bit KITTI PNG: metres x 256, 0 = none).
+Usage: radarhr.py PAIRS_DIR OUT.onnx [--minutes M] [--seed S] [--l1 W] [--guide]
+PAIRS_DIR holds bundle folders' `map --training-pairs` outputs: */pairs/submap_FFFFFF.png,
+*/pairs/ip_basic_FFFFFF.png and */pairs/lidar_FFFFFF.png (16-bit KITTI PNG: metres x 256,
+0 = none).
 """
 
 import argparse
@@ -53,6 +61,8 @@ ALPHA = 0.3
 EPS = 1e-6
 BN_EPS = 1e-5
 BN_MOMENTUM = 0.9
+HEADS = ("head", "gate")  # the 1 x 1 output convolutions: no batch normalization
+GUIDED = False  # set by --guide before the network is built
 
 
 def read_kitti(path):
@@ -63,14 +73,17 @@ def read_kitti(path):
 
 
 def load_pairs(root):
+    """{scene: [(x [C, H, W], target [1, H, W])]}, C = 2 (submap, guide) with --guide, else 1."""
     scenes = {}
     for sub in sorted(glob.glob(os.path.join(root, "*", "pairs", "submap_*.png"))):
+        inputs = [sub] + ([sub.replace("submap_", "ip_basic_")] if GUIDED else [])
         lid = sub.replace("submap_", "lidar_")
-        if not os.path.exists(lid):
-            sys.exit(f"{lid}: missing (every submap_F.png needs its lidar_F.png)")
+        for f in inputs[1:] + [lid]:
+            if not os.path.exists(f):
+                sys.exit(f"{f}: missing (every submap_F.png needs its lidar_F.png, and with --guide its ip_basic_F.png)")
         scene = os.path.dirname(os.path.dirname(sub))
-        x = np.minimum(read_kitti(sub) / MAX_DEPTH_M, 1.0)
-        g = np.minimum(read_kitti(lid) / MAX_DEPTH_M, 1.0)
+        x = np.stack([np.minimum(read_kitti(f) / MAX_DEPTH_M, 1.0) for f in inputs])
+        g = np.minimum(read_kitti(lid) / MAX_DEPTH_M, 1.0)[None]
         scenes.setdefault(scene, []).append((x, g))
     if not scenes:
         sys.exit(f"{root}: no */pairs/submap_*.png")
@@ -98,7 +111,7 @@ def up(x):
 def layers():
     """(name, in, out, kernel, sparse) of every convolution, in order."""
     out = []
-    cin = 1
+    cin = 3 if GUIDED else 1
     for lvl, c in enumerate(CHANNELS):
         out.append((f"enc{lvl}a", cin, c, FIRST_KERNEL if lvl == 0 else 3, True))
         out.append((f"enc{lvl}b", c, c, 3, True))
@@ -107,8 +120,10 @@ def layers():
         out.append((f"dec{lvl}", CHANNELS[lvl + 1] + CHANNELS[lvl], CHANNELS[lvl], 3, False))
     # The last features see the input depth and its mask again, at full resolution: the far
     # walls the radar does see are a few pixels each, easily averaged away on the way down.
-    out.append(("refine", CHANNELS[0] + 2, CHANNELS[0], 3, False))
+    out.append(("refine", CHANNELS[0] + (3 if GUIDED else 2), CHANNELS[0], 3, False))
     out.append(("head", CHANNELS[0], 1, 1, False))
+    if GUIDED:
+        out.append(("gate", CHANNELS[0], 1, 1, False))
     return out
 
 
@@ -118,7 +133,7 @@ def init(key):
         key, sub = jax.random.split(key)
         std = np.sqrt(2.0 / (cin * k * k))
         params[name] = {"w": jax.random.normal(sub, (cout, cin, k, k)) * std, "b": jnp.zeros(cout)}
-        if name != "head":
+        if name not in HEADS:
             params[name]["gamma"] = jnp.ones(cout)
             params[name]["beta"] = jnp.zeros(cout)
             stats[name] = {"mean": jnp.zeros(cout), "var": jnp.ones(cout)}
@@ -126,7 +141,8 @@ def init(key):
 
 
 def forward(params, stats, x, train):
-    """x: [N, 1, H, W] depth / max. Returns (prediction, new batch-norm statistics)."""
+    """x: [N, C, H, W] depth / max (C = 2 with the guide). Returns (prediction, new batch-norm
+    statistics)."""
     new_stats = {}
     spec = {name: (k, sparse) for name, _, _, k, sparse in layers()}
 
@@ -139,7 +155,7 @@ def forward(params, stats, x, train):
         else:
             y = conv(h, p["w"], k // 2)
         y = y + p["b"][None, :, None, None]
-        if name == "head":
+        if name in HEADS:
             return y, mask
         if train:
             mean, var = y.mean(axis=(0, 2, 3)), y.var(axis=(0, 2, 3))
@@ -154,8 +170,14 @@ def forward(params, stats, x, train):
         y = y * p["gamma"][None, :, None, None] + p["beta"][None, :, None, None]
         return jax.nn.relu(y), mask
 
-    mask = observed = (x > 0).astype(x.dtype)
-    h, skips = x, []
+    sub = x[:, :1]
+    mask = observed = (sub > 0).astype(x.dtype)
+    h, seen = sub, [sub, observed]
+    if GUIDED:
+        guide = x[:, 1:2]
+        mask = ((sub + guide) > 0).astype(x.dtype)
+        h = seen = jnp.concatenate([sub, observed, guide], axis=1)
+    skips = []
     for lvl in range(len(CHANNELS)):
         if lvl > 0:
             h, mask = pool(h, 2, 2), pool(mask, 2, 2)
@@ -164,9 +186,13 @@ def forward(params, stats, x, train):
         skips.append(h)
     for lvl in reversed(range(len(CHANNELS) - 1)):
         h, _ = unit(f"dec{lvl}", jnp.concatenate([up(h), skips[lvl]], axis=1))
-    h, _ = unit("refine", jnp.concatenate([h, x, observed], axis=1))
+    h, _ = unit("refine", jnp.concatenate([h] + ([seen] if GUIDED else seen), axis=1))
     y, _ = unit("head", h)
-    return jax.nn.sigmoid(y), new_stats
+    y = jax.nn.sigmoid(y)
+    if GUIDED:
+        gate = jax.nn.sigmoid(unit("gate", h)[0])
+        y = y + gate * (guide - y)
+    return y, new_stats
 
 
 def loss_fn(params, stats, x, g, l1):
@@ -226,7 +252,7 @@ def export(params, stats, path):
     def unit(name, h, mask=None):
         p, (k, sparse) = params[name], spec[name]
         w, b = np.asarray(p["w"], np.float64), np.asarray(p["b"], np.float64)
-        if name != "head":  # fold batch normalization into the convolution
+        if name not in HEADS:  # fold batch normalization into the convolution
             s = np.asarray(p["gamma"]) / np.sqrt(np.asarray(stats[name]["var"]) + BN_EPS)
             w = w * s[:, None, None, None]
             b = s * (b - np.asarray(stats[name]["mean"])) + np.asarray(p["beta"])
@@ -241,13 +267,25 @@ def export(params, stats, path):
             mask = node("MaxPool", [mask], f"{name}_mask", kernel_shape=[k, k], pads=[lo, lo, hi, hi])
         else:
             y = node("Conv", [h, const(f"{name}_w", w), const(f"{name}_b", b)], f"{name}_conv", pads=pads)
-        if name == "head":
+        if name in HEADS:
             return y, mask
         return node("Relu", [y], f"{name}_relu"), mask
 
     x = "submap_depth"
-    mask = node("Cast", [node("Greater", [x, const("zero", [0.0])], "observed")], "mask", to=TensorProto.FLOAT)
-    h, skips = x, []
+    channels = 2 if GUIDED else 1
+    sub = x
+    if GUIDED:  # each channel picked out by a fixed 1 x 1 convolution (no Slice in the op set)
+        sub = node("Conv", [x, const("pick_submap", np.array([1.0, 0.0]).reshape(1, 2, 1, 1))], "submap")
+        guide = node("Conv", [x, const("pick_guide", np.array([0.0, 1.0]).reshape(1, 2, 1, 1))], "guide")
+    zero = const("zero", [0.0])
+    mask = node("Cast", [node("Greater", [sub, zero], "observed")], "mask", to=TensorProto.FLOAT)
+    h, seen = sub, [sub, "mask"]
+    if GUIDED:
+        either = node("Greater", [node("Add", [sub, guide], "sub_plus_guide"), zero], "either")
+        mask = node("Cast", [either], "enc_mask", to=TensorProto.FLOAT)
+        h = node("Concat", [sub, "mask", guide], "enc_input", axis=1)
+        seen = [h]
+    skips = []
     for lvl in range(len(CHANNELS)):
         if lvl > 0:
             h = node("MaxPool", [h], f"down{lvl}", kernel_shape=[2, 2], strides=[2, 2])
@@ -265,9 +303,16 @@ def export(params, stats, path):
             nearest_mode="floor",
         )
         h, _ = unit(f"dec{lvl}", node("Concat", [u, skips[lvl]], f"cat{lvl}", axis=1))
-    h, _ = unit("refine", node("Concat", [h, x, "mask"], "cat_input", axis=1))
+    h, _ = unit("refine", node("Concat", [h] + seen, "cat_input", axis=1))
     y, _ = unit("head", h)
-    node("Sigmoid", [y], "depth")
+    if GUIDED:  # depth = y + gate * (guide - y)
+        y = node("Sigmoid", [y], "own_depth")
+        gate = node("Sigmoid", [unit("gate", h)[0]], "gate_open")
+        minus_y = node("Mul", [y, const("minus_one", [-1.0])], "minus_own")
+        pulled = node("Mul", [gate, node("Add", [guide, minus_y], "guide_minus_own")], "pulled")
+        node("Add", [y, pulled], "depth")
+    else:
+        node("Sigmoid", [y], "depth")
     # de-duplicate shared constants (eps, ones3, scale2, ...)
     seen, unique = set(), []
     for t in inits:
@@ -277,7 +322,7 @@ def export(params, stats, path):
     graph = helper.make_graph(
         nodes,
         "radarhr",
-        [helper.make_tensor_value_info(x, TensorProto.FLOAT, [1, 1, HEIGHT, WIDTH])],
+        [helper.make_tensor_value_info(x, TensorProto.FLOAT, [1, channels, HEIGHT, WIDTH])],
         [helper.make_tensor_value_info("depth", TensorProto.FLOAT, [1, 1, HEIGHT, WIDTH])],
         unique,
     )
@@ -299,7 +344,10 @@ def main():
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--batch", type=int, default=8)
     ap.add_argument("--l1", type=float, default=0.0, help="weight of the L1 term (0: the paper's loss)")
+    ap.add_argument("--guide", action="store_true", help="also take the submap's IP-Basic completion")
     args = ap.parse_args()
+    global GUIDED
+    GUIDED = args.guide
 
     scenes = load_pairs(args.pairs)
     names = sorted(scenes)
@@ -307,10 +355,10 @@ def main():
     train = [p for n in names if n not in val_names for p in scenes[n]]
     val = [p for n in val_names for p in scenes[n]]
     print(f"{len(train)} training pairs, {len(val)} validation pairs ({len(val_names)} scenes)")
-    xt = np.stack([p[0] for p in train])[:, None]
-    gt = np.stack([p[1] for p in train])[:, None]
-    xv = np.stack([p[0] for p in val])[:, None]
-    gv = np.stack([p[1] for p in val])[:, None]
+    xt = np.stack([p[0] for p in train])
+    gt = np.stack([p[1] for p in train])
+    xv = np.stack([p[0] for p in val])
+    gv = np.stack([p[1] for p in val])
 
     rng = np.random.default_rng(args.seed)
     params, stats = init(jax.random.PRNGKey(args.seed))
@@ -335,7 +383,7 @@ def main():
         if it % 100 == 0:
             pv = np.concatenate([np.asarray(predict(params, stats, jnp.asarray(xv[i : i + 8]))) for i in range(0, len(xv), 8)])
             mae, rmse = errors(pv, gv)
-            sub = errors(xv, gv)
+            sub = errors(xv[:, :1], gv)
             if mae < best[0]:
                 best = (mae, params, stats)
             print(
