@@ -27,6 +27,7 @@ pub mod error;
 pub mod image;
 pub mod instances;
 pub mod network;
+mod plan;
 pub mod radarhr;
 pub mod segmenter;
 

@@ -3,13 +3,12 @@
 
 use crate::error::VisionError;
 use crate::image::{Image, nearest};
+use crate::plan::Plan;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 use tract_onnx::prelude::*;
 use tract_onnx::tract_hir::infer::Factoid;
-
-pub(crate) type Plan = Arc<TypedRunnableModel>;
 
 /// The shape of `model`'s first input, `None` where a dimension is free.
 pub(crate) fn input_dims(model: &InferenceModel) -> TractResult<Vec<Option<usize>>> {
@@ -129,8 +128,7 @@ impl Network {
             .model
             .clone()
             .with_input_fact(0, f32::fact([1, 3, height, width]).into())
-            .and_then(InferenceModelExt::into_optimized)
-            .and_then(IntoRunnable::into_runnable)
+            .and_then(crate::plan::optimized)
             .map_err(|e| self.run_error(format!("{e:#}")))?;
         plans.insert((width, height), plan.clone());
         Ok(plan)
@@ -148,8 +146,7 @@ impl Network {
         let tensor =
             Tensor::from_shape(&[1, 3, h, w], &input.planes).map_err(|e| self.run_error(e))?;
         let plan = self.plan(w, h)?;
-        let out = plan
-            .run(tvec!(tensor.into()))
+        let out = crate::plan::run(&plan, tvec!(tensor.into()))
             .map_err(|e| self.run_error(format!("{e:#}")))?;
         let first = out
             .first()

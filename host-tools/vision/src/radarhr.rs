@@ -13,7 +13,8 @@
 //! * Metadata properties `max_depth_m` and `min_depth_m` (metres).
 
 use crate::error::VisionError;
-use crate::network::{Plan, input_dims, metadata};
+use crate::network::{input_dims, metadata};
+use crate::plan::Plan;
 use std::path::{Path, PathBuf};
 use tract_onnx::prelude::*;
 
@@ -108,10 +109,7 @@ impl RadarHr {
                 "max_depth_m {max_depth_m} is not above min_depth_m {min_depth_m}"
             )));
         }
-        let plan = model
-            .into_optimized()
-            .and_then(IntoRunnable::into_runnable)
-            .map_err(load)?;
+        let plan = crate::plan::optimized(model).map_err(load)?;
         Ok(Self {
             source: source.to_owned(),
             plan,
@@ -191,9 +189,7 @@ impl RadarHr {
         };
         let tensor = Tensor::from_shape(&[1, images.len(), self.height, self.width], &input)
             .map_err(|e| run(format!("{e:#}")))?;
-        let out = self
-            .plan
-            .run(tvec!(tensor.into()))
+        let out = crate::plan::run(&self.plan, tvec!(tensor.into()))
             .map_err(|e| run(format!("{e:#}")))?;
         let values = out
             .first()
