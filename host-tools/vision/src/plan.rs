@@ -53,3 +53,67 @@ fn clear_upper() {
 fn zero_upper() {
     std::arch::x86_64::_mm256_zeroupper();
 }
+
+#[cfg(all(test, target_arch = "x86_64"))]
+mod tests {
+    use super::*;
+
+    /// XINUSE (`xgetbv` with ECX = 1): which state components are not in their initial
+    /// state. Bit 2 is the upper halves of YMM0–15, bit 6 of ZMM0–15. `None` where the CPU
+    /// does not report it.
+    #[allow(unsafe_code)]
+    fn in_use() -> Option<u64> {
+        #[target_feature(enable = "xsave")]
+        unsafe fn xinuse() -> u64 {
+            // SAFETY: the caller checked that the CPU reports XINUSE.
+            unsafe { std::arch::x86_64::_xgetbv(1) }
+        }
+        // CPUID leaf 0xD, sub-leaf 1, EAX bit 2: XGETBV with ECX = 1 is supported.
+        let leaf = std::arch::x86_64::__cpuid_count(0xd, 1);
+        (std::arch::is_x86_feature_detected!("xsave") && leaf.eax & 4 != 0)
+            // SAFETY: the CPU has XSAVE and reports XINUSE, both checked just before.
+            .then(|| unsafe { xinuse() })
+    }
+
+    const UPPER: u64 = (1 << 2) | (1 << 6);
+
+    /// The shipped small-board network, optimised, and an input of its size.
+    fn network() -> (Plan, TVec<TValue>) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/models/radarhr.onnx");
+        let model = onnx().model_for_path(path).expect(path);
+        let input = Tensor::from_shape(&[1, 1, 80, 320], &vec![0.25f32; 80 * 320]).expect("size");
+        (optimized(model).expect("model"), tvec!(input.into()))
+    }
+
+    #[test]
+    fn run_leaves_the_upper_halves_clean() {
+        let (plan, input) = network();
+        let Some(before) = in_use() else {
+            eprintln!("this CPU does not report XINUSE: nothing to check");
+            return;
+        };
+        assert_eq!(before & UPPER, 0, "dirty before any run: {before:#x}");
+        // tract alone leaves them dirty on a CPU whose kernels use them (the probe works)...
+        let raw = plan.run(input.clone()).expect("run");
+        let dirty = in_use().unwrap_or(0) & UPPER;
+        clear_upper();
+        // ...and `run` does not, with the same outputs.
+        let cleared = run(&plan, input).expect("run");
+        let after = in_use().unwrap_or(u64::MAX);
+        if std::arch::is_x86_feature_detected!("avx2") {
+            assert_ne!(
+                dirty, 0,
+                "tract's kernels did not dirty the registers: a weak probe"
+            );
+        }
+        assert_eq!(after & UPPER, 0, "dirty after run: {after:#x}");
+        let values = |out: &TVec<TValue>| {
+            out[0]
+                .try_as_plain_ram()
+                .and_then(|v| v.as_slice::<f32>())
+                .map(<[f32]>::to_vec)
+                .expect("f32 output")
+        };
+        assert_eq!(values(&raw), values(&cleared));
+    }
+}
