@@ -5,7 +5,7 @@
 use super::ObjectEstimate;
 use super::camera_points::CameraObject;
 use crate::ProcessError;
-use crate::lead::{Lead, leading_edge};
+use crate::lead::{HannLobe, Lead, leading_edge};
 use crate::trust::{Candidate, Evidence};
 use metamoran_bundle::geometry::{Point, azimuth, range_xz};
 use metamoran_dsp::clutter::peaks::{MAX_PEAKS, Peak};
@@ -205,6 +205,8 @@ pub struct MovingScene {
     slots: usize,
     /// Radial velocity of one Doppler bin, m/s (λ / (2 · loop period · Doppler length)).
     bin_mps: f64,
+    /// The range window's main lobe in range bins (wider where the range FFT zero-pads).
+    lobe: HannLobe,
 }
 
 /// Doppler bins searched per object: the strongest toward its span (another mover's energy can
@@ -383,6 +385,7 @@ impl MovingScene {
             rx: config.rx_count(),
             slots: config.slots(),
             bin_mps: config.wavelength_m() / (2.0 * config.loop_period_s() * nd as f64),
+            lobe: HannLobe::new(usize::from(config.adc_samples), m),
         }))
     }
 
@@ -456,7 +459,8 @@ impl MovingScene {
                 &mut scores,
             )
             .ok()?;
-            leading_edge(&scores, &search, bin_m, extent_m).filter(|l| !elsewhere(l.depth_m as f32))
+            leading_edge(&scores, &search, bin_m, self.lobe, extent_m)
+                .filter(|l| !elsewhere(l.depth_m as f32))
         });
         if search.peak > 0.0 && elsewhere(search.depth_m) {
             search.peak = 0.0;
