@@ -56,8 +56,8 @@ enum What {
         peaks: super::map::PeaksArg,
         /// Whether the detector's screen applies: the board's own rule (`auto`), `on` or `off`
         /// (what it costs, in the same run).
-        #[arg(long, value_enum, default_value_t = super::map::Cut::Auto)]
-        screen: super::map::Cut,
+        #[arg(long, value_enum, default_value_t = super::map::Switch::Auto)]
+        screen: super::map::Switch,
     },
     /// Depth search on a cascade-86, 512-sample frame: coarse-to-fine vs brute force (MACs, time).
     #[command(after_help = "Example:\n  metamoran bench search --json")]

@@ -44,8 +44,8 @@ pub struct Args {
     /// (the imaging board's beam; a wall seen past a pole from earlier poses). `auto` cuts on
     /// the imaging board, whose shipped network was trained so, and not on the small board;
     /// `--visibility` alone is `on`.
-    #[arg(long, value_enum, default_value_t = Cut::Auto, num_args = 0..=1, default_missing_value = "on")]
-    visibility: Cut,
+    #[arg(long, value_enum, default_value_t = Switch::Auto, num_args = 0..=1, default_missing_value = "on")]
+    visibility: Switch,
     /// Which earlier frames' points the submap keeps: `all`, or `seen-again`, only those within
     /// 0.5 m of one of the last frame's points (a consistency check across frames: what has
     /// since been hidden, or was a ghost, stays out). `auto` is what the board's shipped
@@ -64,17 +64,18 @@ pub struct Args {
     /// which keeps only each direction's own peak: denser frames and submaps, see the README's
     /// "the direction rule's screen"). `auto` is what the board's shipped network was trained
     /// on; `--screen` alone is `on`.
-    #[arg(long, value_enum, default_value_t = Cut::Auto, num_args = 0..=1, default_missing_value = "on")]
-    screen: Cut,
+    #[arg(long, value_enum, default_value_t = Switch::Auto, num_args = 0..=1, default_missing_value = "on")]
+    screen: Switch,
     /// Print the figures as JSON.
     #[arg(long)]
     json: bool,
 }
 
-/// `map --visibility` and `--screen`: whether the depth images are cut to what is visible, and
-/// whether the detector's screen applies.
+/// An option that is `auto` (what the board's shipped network was trained with), `on` or `off`:
+/// `map --visibility` (whether the depth images are cut to what is visible) and `--screen`
+/// (whether the detector's screen applies).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Cut {
+pub enum Switch {
     /// As the board's shipped network was trained.
     Auto,
     /// Always.
@@ -83,7 +84,7 @@ pub enum Cut {
     Off,
 }
 
-impl Cut {
+impl Switch {
     /// `value` where on, none where off, `auto` where auto.
     pub fn rule<T>(self, auto: Option<T>, value: T) -> Option<T> {
         match self {
