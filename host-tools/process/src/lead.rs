@@ -56,6 +56,9 @@ impl HannLobe {
     /// The lobe of `samples` ADC samples padded to an FFT of `fft_len` points (no padding is
     /// assumed when `fft_len < samples` or `samples` is 0).
     pub fn new(samples: usize, fft_len: usize) -> Self {
+        if samples == 0 {
+            return Self::UNPADDED;
+        }
         Self {
             bins_per_cell: (fft_len as f32 / samples as f32).max(1.0),
         }
@@ -64,7 +67,7 @@ impl HannLobe {
     /// Range bins in front of the strongest return a leading edge must be at least: the main
     /// lobe (±2 cells) is the strongest return's own, one bin past it. 3 without padding.
     pub fn lead_min_bins(self) -> usize {
-        (2.0 * self.bins_per_cell).ceil() as usize + 1
+        ((2.0 * self.bins_per_cell).ceil() as usize).saturating_add(1)
     }
 
     /// Half the width of a point reflector's return at a quarter of its power (−6 dB), bins:
@@ -328,6 +331,8 @@ mod tests {
         // 136 samples into a 256-point FFT: a cell is 1.88 bins.
         let lobe = HannLobe::new(136, 256);
         assert_eq!(HannLobe::new(256, 256), HannLobe::UNPADDED);
+        assert_eq!(HannLobe::new(0, 256), HannLobe::UNPADDED);
+        assert_eq!(HannLobe::new(256, 128), HannLobe::UNPADDED);
         assert_eq!(
             (HannLobe::UNPADDED.lead_min_bins(), lobe.lead_min_bins()),
             (3, 5)
