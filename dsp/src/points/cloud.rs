@@ -16,7 +16,7 @@
 use super::angles::{BaseSteering, Direction, MAX_DIRECTIONS, cell_directions_where};
 use super::geometry::ArrayGeometry;
 use crate::config::{MAX_SLOTS, RadarConfig};
-use crate::detect::{Cfar2d, CfarError, quadratic_offset};
+use crate::detect::{Cfar2d, CfarError, median_floor, quadratic_offset};
 use crate::doppler::{DopplerError, DopplerOptions, doppler_column};
 use crate::fft::{Complex32, Exponent};
 use crate::fixed::CQ15;
@@ -90,10 +90,12 @@ pub struct CloudOptions {
 
 /// A looser test for the cells the detector ([`CloudOptions::cfar`] within
 /// [`CloudOptions::dynamic_range_db`]) misses: a cell passes where it exceeds `scale` times the
-/// detector's estimate of its training cells and lies within `dynamic_range_db` of the map's
-/// strongest cell. For [`Peaks::Direction`], whose own test of each direction's peak in range and
-/// Doppler decides what is a point: cells whose training window other directions' returns crowd
-/// are tested too. Never fewer cells than the detector alone: a frame whose strongest return
+/// detector's estimate of its training cells, lies within `dynamic_range_db` of the map's
+/// strongest cell and `noise_margin_db` or more over the map's median ([`median_floor`]: the
+/// noise, where noise fills most of the map; O(n) per frame, `n` the map's cells). For
+/// [`Peaks::Direction`], whose own test of each direction's peak in range and Doppler decides
+/// what is a point: cells whose training window other directions' returns crowd are tested
+/// too. Never fewer cells than the detector alone: a frame whose strongest return
 /// is so strong that the near dynamic range holds little else keeps the detector's cells.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Screen {
@@ -102,6 +104,10 @@ pub struct Screen {
     pub scale: f32,
     /// Cells more than this far below the map's strongest fail, dB.
     pub dynamic_range_db: f32,
+    /// Cells less than this far over the map's median magnitude fail, dB: in a capture whose
+    /// noise comes within `dynamic_range_db` of its strongest return, the noise's own cells
+    /// would pass the other two tests about half the time.
+    pub noise_margin_db: f32,
 }
 
 /// One point of the cloud.
@@ -283,7 +289,13 @@ pub fn frame_points(
         let scale = s.scale.min(run.cfar.rows.scale);
         let detector = run.cfar.rows.scale;
         run.cfar.rows.scale = scale;
-        (scale, detector, below_peak(s.dynamic_range_db), s.scale)
+        let over_noise = median_floor(map) * libm::powf(10.0, s.noise_margin_db / 20.0);
+        (
+            scale,
+            detector,
+            below_peak(s.dynamic_range_db).max(over_noise),
+            s.scale,
+        )
     });
     run.cfar
         .detect_rows(map, bins, nd, bins_in, |det| {

@@ -12,7 +12,7 @@ use metamoran_dsp::window::WindowKind;
 use metamoran_process::frame::{FrameOptions, FrameProcessor};
 use metamoran_sim::radar::{RadarKind, drive_config};
 use metamoran_sim::signal::{Echo, synthesize};
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 
 /// A target: (range m, azimuth °, elevation °, radial velocity m/s).
 type Target = (f64, f64, f64, f64);
@@ -148,6 +148,67 @@ fn the_direction_rule_keeps_what_the_map_detector_finds_under_a_strong_return() 
     }
 }
 
+#[test]
+fn the_screen_keeps_over_a_capture_s_noise() {
+    // Four static reflectors on the imaging board in receiver noise of σ = NOISE LSB per I/Q
+    // component, so the map's median (the noise) lies within the screen's 40 dB of its
+    // strongest cell (the simulator's own noise lies 86 dB under on a street). The screen
+    // asks `NOISE_MARGIN_DB` over the median: it keeps the reflectors and adds few noise
+    // cells to what the detector alone finds; without that floor (the screen before it) half
+    // the noise cells within 40 dB of the peak pass its ×1 test, and each gives points.
+    const NOISE: f64 = 1500.0;
+    let (config, _) = drive_config(RadarKind::Imaging);
+    let bin = f64::from(config.range_bin_size(config.range_fft_len()));
+    let targets = [
+        ((40.0 * bin, -20.0, 0.0, 0.0), 3000.0),
+        ((75.0 * bin, 10.0, 5.0, 0.0), 2000.0),
+        ((110.0 * bin, 30.0, -5.0, 0.0), 2000.0),
+        ((150.0 * bin, -5.0, 0.0, 0.0), 1500.0),
+    ];
+    let stray = |points: &[RadarPoint]| {
+        points
+            .iter()
+            .filter(|p| {
+                targets
+                    .iter()
+                    .all(|&(t, _)| near(&[**p], t, (3.0 * bin, 10.0)).is_empty())
+            })
+            .count()
+    };
+    let with_screen = |noise_margin_db| CloudOptions {
+        screen: Some(metamoran_dsp::points::Screen {
+            noise_margin_db,
+            ..metamoran_map::cloud::DIRECTION_SCREEN
+        }),
+        ..screened()
+    };
+    let floored = with_screen(metamoran_map::cloud::NOISE_MARGIN_DB);
+    let (_, screen) = cloud_in_noise(RadarKind::Imaging, &targets, &floored, NOISE);
+    for &(t, _) in &targets {
+        assert!(
+            !near(&screen, t, (bin, 2.0)).is_empty(),
+            "{t:?}: {screen:?}"
+        );
+    }
+    let detector = CloudOptions {
+        screen: None,
+        ..floored
+    };
+    let (_, alone) = cloud_in_noise(RadarKind::Imaging, &targets, &detector, NOISE);
+    let unfloored = with_screen(f32::NEG_INFINITY);
+    let (_, old) = cloud_in_noise(RadarKind::Imaging, &targets, &unfloored, NOISE);
+    let (screen, alone, old) = (stray(&screen), stray(&alone), stray(&old));
+    println!("stray points: screen {screen}, detector alone {alone}, without the floor {old}");
+    assert!(
+        screen <= alone + alone / 2 + 2,
+        "screen {screen}, detector {alone}"
+    );
+    assert!(
+        old > 5 * screen.max(4),
+        "without the floor {old}, with {screen}"
+    );
+}
+
 /// The points within `range_m` m and `azimuth_deg` degrees of target `t`.
 fn near(points: &[RadarPoint], t: Target, (range_m, azimuth_deg): (f64, f64)) -> Vec<RadarPoint> {
     points
@@ -250,6 +311,17 @@ fn cloud_with(
     targets: &[(Target, f64)],
     options: &CloudOptions,
 ) -> (RadarConfig, Vec<RadarPoint>) {
+    cloud_in_noise(kind, targets, options, 0.0)
+}
+
+/// [`cloud_with`] with extra receiver noise: Gaussian of `sigma_lsb` per I and Q component,
+/// added to the synthesized samples (seeded, so the same every run).
+fn cloud_in_noise(
+    kind: RadarKind,
+    targets: &[(Target, f64)],
+    options: &CloudOptions,
+    sigma_lsb: f64,
+) -> (RadarConfig, Vec<RadarPoint>) {
     let peaks = options.peaks;
     let (mut config, tx_elevation) = drive_config(kind);
     config.frames = 1;
@@ -268,7 +340,15 @@ fn cloud_with(
         })
         .collect();
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
-    let bytes = synthesize(&config, &echoes, &elevation, None, &mut rng);
+    let mut bytes = synthesize(&config, &echoes, &elevation, None, &mut rng);
+    if sigma_lsb > 0.0 {
+        for sample in bytes.chunks_exact_mut(2) {
+            let noise: f64 = rng.sample(rand_distr::StandardNormal);
+            let v = f64::from(i16::from_le_bytes([sample[0], sample[1]])) + sigma_lsb * noise;
+            let v = v.round().clamp(f64::from(i16::MIN), f64::from(i16::MAX)) as i16;
+            sample.copy_from_slice(&v.to_le_bytes());
+        }
+    }
     let mut samples = vec![CQ15::default(); config.samples_per_frame()];
     deinterleave_bytes(&bytes, IqOrder::Iiqq, &mut samples).unwrap();
     let mut proc = FrameProcessor::new(
