@@ -4,7 +4,9 @@
 //!
 //! The median is bounded from a histogram of the values' float bit patterns (eight buckets
 //! per octave, their edges the floats with three mantissa bits), so it needs no sorting, no
-//! buffer and no floating-point arithmetic: the same bits on every target.
+//! buffer and no floating-point arithmetic: the same bits on every target. The depth search's
+//! exact median (`search::depth`) is not shared: its 16-bit counts would saturate on a map of
+//! more than 65,535 cells, and widening them changes the module's golden instruction counts.
 
 /// Buckets of [`median_floor`]'s histogram, eight per octave (each at most 1/8 wider than its
 /// lower edge, 1.02 dB of magnitude): 16 octaves (96 dB) under the map's largest value.

@@ -60,10 +60,9 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = PeaksArg::Auto)]
     peaks: PeaksArg,
     /// Whether the detector also tests the cells the CFAR misses that are louder than their
-    /// neighbourhood's mean, within 40 dB of the strongest cell and 6 dB over the map's median
-    /// (its noise) (with `--peaks direction`,
-    /// which keeps only each direction's own peak: denser frames and submaps, see the README's
-    /// "the direction rule's screen"). `auto` is what the board's shipped network was trained
+    /// neighbourhood's mean, within 40 dB of the strongest cell and 6 dB over the map's median,
+    /// its noise (with `--peaks direction`, which keeps only each direction's own peak: denser
+    /// frames and submaps, see the README's "the direction rule's screen"). `auto` is what the board's shipped network was trained
     /// on; `--screen` alone is `on`.
     #[arg(long, value_enum, default_value_t = Switch::Auto, num_args = 0..=1, default_missing_value = "on")]
     screen: Switch,
